@@ -1,0 +1,39 @@
+# Two entry points for a fresh machine (Python 3.11, no venv yet):
+#   make reproduce   set up .venv and run the full Snakemake reproduction
+#   make test        set up .venv and run the default test suite
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+CORES  ?= 2
+# One BLAS thread per process: Snakemake runs jobs in parallel on the cores.
+export OMP_NUM_THREADS ?= 1
+export OPENBLAS_NUM_THREADS ?= 1
+export MKL_NUM_THREADS ?= 1
+export MPLBACKEND ?= Agg
+
+.PHONY: setup reproduce test test-all lock clean
+
+setup: $(VENV)/.installed
+
+$(VENV)/.installed: pyproject.toml requirements.lock
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -c requirements.lock -e '.[test]'
+	touch $@
+
+reproduce: setup
+	$(BIN)/snakemake --cores $(CORES)
+
+test: setup
+	$(BIN)/python -m pytest -m "not slow"
+
+test-all: setup
+	$(BIN)/python -m pytest
+
+lock: setup
+	( echo '# Exact versions of every dependency, used as pip constraints by the Makefile.'; \
+	  echo '# Regenerate: make lock'; \
+	  $(BIN)/python -m pip freeze --exclude-editable | grep -v -iE '^(pip|setuptools|wheel)==' ) > requirements.lock
+
+clean:
+	rm -rf $(VENV) .snakemake results logs

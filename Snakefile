@@ -1,0 +1,19 @@
+# capslide: reproduce the numerical study of Mergel, Sahli, Scheibert, Sauer (2019).
+#   snakemake --cores 2                      full reproduction (results/)
+#   snakemake --cores 2 --configfile X.yaml  the same with X.yaml merged on top
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/model_figures.smk"
+
+
+rule all:
+    input:
+        model_figures=MODEL_FIGURE_FILES,
+    default_target: True

@@ -1,0 +1,8 @@
+"""capslide: finite element simulations of adhesive friction of a soft cap on a rigid substrate."""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("capslide")
+except PackageNotFoundError:  # running from a source tree without installation
+    __version__ = "0+unknown"

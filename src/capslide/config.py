@@ -1,0 +1,219 @@
+"""Configuration files: load, merge, override, validate, fill defaults.
+
+A configuration is a nested dict read from one or more YAML files (later
+files update earlier ones), changed by dotted-key overrides
+(``friction.s_cut=0``), then validated against ``config.schema.yaml`` (the
+same file Snakemake validates with). Every problem is reported as a
+:class:`ConfigError` whose message is one line naming the key, the value
+and what is allowed.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import re
+from importlib import resources
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import jsonschema
+import yaml
+
+__all__ = [
+    "ConfigError",
+    "schema",
+    "load_yaml",
+    "merge",
+    "apply_overrides",
+    "validate",
+    "load_config",
+    "flatten",
+]
+
+
+class ConfigError(ValueError):
+    """A bad configuration; the message is one line for the user."""
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader that also reads YAML 1.2 floats such as ``2e6`` as numbers."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$"),
+    list("-+0123456789."),
+)
+# integers keep their own (earlier, more specific) resolver
+_Loader.yaml_implicit_resolvers = {
+    k: sorted(v, key=lambda item: item[0] != "tag:yaml.org,2002:int") for k, v in _Loader.yaml_implicit_resolvers.items()
+}
+
+
+def _yaml_load(text: str):
+    return yaml.load(text, Loader=_Loader)  # noqa: S506 (a SafeLoader subclass)
+
+
+@functools.cache
+def schema() -> dict:
+    """The JSON schema of a configuration (packaged YAML file)."""
+    text = resources.files("capslide").joinpath("config.schema.yaml").read_text()
+    return yaml.safe_load(text)
+
+
+def load_yaml(path: str | Path) -> dict:
+    """Read one YAML mapping from ``path``; errors name the file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise ConfigError(f"cannot read config file '{path}': {err.strerror}") from None
+    try:
+        data = _yaml_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" line {mark.line + 1}" if mark is not None else ""
+        problem = getattr(err, "problem", None) or "invalid YAML"
+        raise ConfigError(f"config file '{path}'{where}: {problem}") from None
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise ConfigError(f"config file '{path}' must hold a mapping of sections, not {type(data).__name__}")
+    return data
+
+
+def merge(base: Mapping, update: Mapping) -> dict:
+    """Recursive dict update: ``update`` wins, nested mappings are merged."""
+    out = copy.deepcopy(dict(base))
+    for key, value in update.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = merge(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
+
+
+def _parse_override(item: str) -> tuple[list[str], Any]:
+    key, sep, text = item.partition("=")
+    key = key.strip()
+    if not sep or not key or any(not part for part in key.split(".")):
+        raise ConfigError(f"override '{item}' must look like section.key=value")
+    try:
+        value = _yaml_load(text) if text.strip() else None
+    except yaml.YAMLError:
+        value = text
+    return key.split("."), value
+
+
+def apply_overrides(config: Mapping, overrides: Iterable[str]) -> dict:
+    """Apply ``section.key=value`` overrides; values are parsed as YAML scalars."""
+    out = copy.deepcopy(dict(config))
+    for item in overrides:
+        path, value = _parse_override(item)
+        node = out
+        for part in path[:-1]:
+            child = node.get(part)
+            if child is None:
+                child = node[part] = {}
+            elif not isinstance(child, dict):
+                raise ConfigError(f"override '{item}': '{part}' is a value, not a section")
+            node = child
+        node[path[-1]] = value
+    return out
+
+
+def _dotted(path: Iterable) -> str:
+    return ".".join(str(p) for p in path) or "<top level>"
+
+
+def _allowed(spec: Mapping) -> str:
+    """Describe what a schema node allows, for error messages."""
+    if "enum" in spec:
+        return "one of " + ", ".join(map(str, spec["enum"]))
+    kind = spec.get("type", "value")
+    kind = " or ".join(kind) if isinstance(kind, list) else kind
+    bounds = []
+    for word, sym in (("minimum", ">="), ("exclusiveMinimum", ">"), ("maximum", "<="), ("exclusiveMaximum", "<")):
+        if word in spec:
+            bounds.append(f"{sym} {spec[word]}")
+    return f"{kind} {' and '.join(bounds)}".strip()
+
+
+def _message(err: jsonschema.ValidationError) -> str:
+    key = _dotted(err.absolute_path)
+    spec = err.schema if isinstance(err.schema, Mapping) else {}
+    if err.validator == "additionalProperties":
+        allowed = sorted(spec.get("properties", {}))
+        extra = sorted(set(err.instance) - set(allowed))
+        where = f"{key}." if err.absolute_path else ""
+        return f"unknown key '{where}{extra[0]}' (allowed here: {', '.join(allowed)})"
+    if err.validator == "required":
+        missing = err.message.split("'")[1]
+        where = f"{key}." if err.absolute_path else ""
+        kind = "section" if not err.absolute_path else "key"
+        return f"missing {kind} '{where}{missing}'"
+    if err.validator == "type" and spec.get("type") == "object":
+        return f"'{key}' must be a section (mapping of keys), got {err.instance!r}"
+    return f"{key} = {err.instance!r} is not allowed: must be {_allowed(spec)}"
+
+
+def _fill_defaults(config: dict, spec: Mapping) -> None:
+    for name, sub in spec.get("properties", {}).items():
+        if name not in config and "default" in sub:
+            config[name] = copy.deepcopy(sub["default"])
+        if isinstance(config.get(name), dict):
+            _fill_defaults(config[name], sub)
+
+
+def _check_consistency(config: Mapping) -> None:
+    """Cross-key rules the schema cannot express."""
+    g_reg_limit = 3.0 ** (1.0 / 6.0)  # g_max / g_eq: beyond it Tn'(g_reg) > 0 and the law never repels
+    g_reg = config["adhesion"]["g_reg_over_g_eq"]
+    if g_reg >= g_reg_limit:
+        raise ConfigError(
+            f"adhesion.g_reg_over_g_eq = {g_reg!r} is not allowed: must be < g_max/g_eq = 3^(1/6) = {g_reg_limit:.5f}"
+            " (a larger g_reg extrapolates the attractive branch and removes all repulsion)"
+        )
+    geo = config["geometry"]
+    if geo["H"] > geo["R"]:
+        raise ConfigError(
+            f"geometry.H = {geo['H']!r} is not allowed: must be at most geometry.R = {geo['R']!r} (a cap is at most a half-disc)"
+        )
+
+
+def validate(config: Mapping) -> dict:
+    """Validate against the schema, fill defaults, check cross-key rules.
+
+    Returns a new, complete configuration; raises :class:`ConfigError`.
+    """
+    out = copy.deepcopy(dict(config))
+    validator = jsonschema.Draft202012Validator(schema())
+    errors = list(validator.iter_errors(out))
+    if errors:
+        # Report the shallowest problem first (a missing section before its keys).
+        first = min(errors, key=lambda e: (len(e.absolute_path), _dotted(e.absolute_path)))
+        raise ConfigError(_message(first))
+    _fill_defaults(out, schema())
+    _check_consistency(out)
+    return out
+
+
+def load_config(paths: Iterable[str | Path], overrides: Iterable[str] = ()) -> dict:
+    """Read, merge (in order), override and validate configuration files."""
+    config: dict = {}
+    for path in paths:
+        config = merge(config, load_yaml(path))
+    return validate(apply_overrides(config, overrides))
+
+
+def flatten(config: Mapping, prefix: str = "") -> dict[str, Any]:
+    """Flatten nested sections to ``{"section.key": value}`` (None kept)."""
+    out: dict[str, Any] = {}
+    for key, value in config.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            out.update(flatten(value, f"{name}."))
+        else:
+            out[name] = value
+    return out

@@ -1,0 +1,88 @@
+"""Command-line interface: constants as JSON, one-line errors for bad input."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from conftest import PAPER_CONFIG
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "capslide", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def test_constants_json():
+    res = run("constants", PAPER_CONFIG, "--set", "friction.model=EA", "--set", "friction.s_cut=0")
+    assert res.returncode == 0, res.stderr
+    data = json.loads(res.stdout)
+    assert data["internal"]["r0"] == pytest.approx(0.13188, rel=5e-5)
+    assert data["SI"]["r0"] == pytest.approx(0.13188e-6, rel=5e-5)
+    assert data["internal"]["g_cut_EA"] == pytest.approx(data["internal"]["g_eq"])  # s_cut = 0
+    assert data["internal_units"]["T0"] == "E" and data["SI_units"]["T0"] == "Pa"
+
+
+# (overrides or file text, words the one-line message must contain)
+BAD_INPUT = [
+    (["--set", "friction.foo=1"], ["unknown key", "friction.foo"]),
+    (["--set", "bogus.key=1"], ["unknown key", "bogus"]),
+    (["--set", "material.E=abc"], ["material.E", "'abc'", "number"]),
+    (["--set", "material.nu=0.5"], ["material.nu", "0.5", "< 0.5"]),
+    (["--set", "material.nu=0.7"], ["material.nu", "0.7"]),
+    (["--set", "friction.s_cut=1.5"], ["friction.s_cut", "1.5", "<= 1"]),
+    (["--set", "friction.s_cut=-0.1"], ["friction.s_cut", "-0.1", ">= 0"]),
+    (["--set", "material.E=-2e6"], ["material.E", "-2000000.0", "> 0"]),
+    (["--set", "friction.model=XY"], ["friction.model", "'XY'", "DI, EA, none"]),
+    (["--set", "mesh.surface_gauss_points=2.5"], ["mesh.surface_gauss_points", "integer"]),
+    (["--set", "geometry.H=60"], ["geometry.H", "geometry.R"]),
+    (["--set", "adhesion.g_reg_over_g_eq=1.5"], ["adhesion.g_reg_over_g_eq", "1.5"]),
+    (["--set", "noequals"], ["override", "noequals"]),
+    (["--set", "material.E.x=1"], ["material.E", "value, not a section"]),
+    (["--set", "material=3"], ["material", "section"]),
+]
+
+
+@pytest.mark.parametrize("extra, words", BAD_INPUT, ids=[" ".join(b[0]) for b in BAD_INPUT])
+def test_bad_overrides(extra, words):
+    res = run("constants", PAPER_CONFIG, *extra)
+    assert res.returncode == 2
+    assert res.stdout == ""
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("capslide: error: "), res.stderr
+    assert "Traceback" not in res.stderr
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+
+
+def test_missing_section_and_bad_files(tmp_path):
+    text = PAPER_CONFIG.read_text()
+    no_friction = tmp_path / "nofriction.yaml"
+    no_friction.write_text(text.replace("friction:", "friction_gone:"))
+    res = run("constants", no_friction)
+    assert res.returncode == 2 and "unknown key 'friction_gone'" in res.stderr
+    cut = text.split("friction:")[0] + "geometry:" + text.split("geometry:")[1]
+    missing = tmp_path / "missing.yaml"
+    missing.write_text(cut)
+    res = run("constants", missing)
+    assert res.returncode == 2 and "missing section 'friction'" in res.stderr
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("material: [1, 2\n")
+    res = run("constants", broken)
+    assert res.returncode == 2 and "broken.yaml" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    res = run("constants", tmp_path / "absent.yaml")
+    assert res.returncode == 2 and "absent.yaml" in res.stderr
+    nokey = tmp_path / "nokey.yaml"
+    nokey.write_text(text.replace("  E: 2.0e+6          # Pa\n", ""))
+    res = run("constants", nokey)
+    assert res.returncode == 2 and "missing key 'material.E'" in res.stderr
+
+
+def test_figure_bad_output_leaves_nothing(tmp_path):
+    res = run("figure", "Tn", PAPER_CONFIG, "-o", tmp_path / "fig.jpg2")
+    assert res.returncode == 2 and "unsupported file type" in res.stderr
+    res = run("figure", "NoSuchFigure", PAPER_CONFIG, "-o", tmp_path / "fig.png")
+    assert res.returncode == 2 and "unknown figure 'NoSuchFigure'" in res.stderr
+    res = run("figure", "Tn", PAPER_CONFIG, "--set", "material.nu=0.5", "-o", tmp_path / "fig.png")
+    assert res.returncode == 2
+    assert list(tmp_path.iterdir()) == []
