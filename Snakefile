@@ -11,9 +11,11 @@ configfile: "config/config.yaml"
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/model_figures.smk"
+include: "workflow/rules/meshes.smk"
 
 
 rule all:
     input:
         model_figures=MODEL_FIGURE_FILES,
+        cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
     default_target: True

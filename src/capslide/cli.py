@@ -56,17 +56,62 @@ def cmd_constants(args) -> int:
     return 0
 
 
+def _config_from_netcdf(path: str) -> dict:
+    """The validated configuration stored in a capslide netCDF file."""
+    import xarray as xr
+    import yaml
+
+    from .config import validate
+
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            text = ds.attrs.get("config_yaml")
+    except (OSError, ValueError) as err:
+        raise InputError(f"cannot read netCDF file '{path}': {err}") from None
+    if text is None:
+        raise InputError(f"'{path}' holds no configuration (attribute config_yaml)")
+    return validate(yaml.safe_load(text))
+
+
 def cmd_figure(args) -> int:
-    """Render one model/experiment figure to PDF and/or PNG."""
+    """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
     from . import figures  # matplotlib only when a figure is drawn
 
-    if args.name not in figures.MODEL_FIGURES:
-        raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(figures.MODEL_FIGURES)})")
-    params = _parameters(args)
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES}
+    if args.name not in known:
+        raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = _check_outputs(args.output, {"pdf", "png", "svg"})
+    if args.name in figures.MODEL_FIGURES:
+        if not args.configs:
+            raise InputError(f"figure '{args.name}' needs a CONFIG file")
+        draw = lambda: figures.MODEL_FIGURES[args.name](_parameters(args))  # noqa: E731
+    else:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input MESH.nc")
+        from .results import read_mesh
+
+        params = Parameters.from_config(_config_from_netcdf(args.input))
+        mesh = read_mesh(args.input)
+        draw = lambda: figures.MESH_FIGURES[args.name](mesh, params)  # noqa: E731
     with figures.journal_style():
-        fig = figures.MODEL_FIGURES[args.name](params)
-        figures.save(fig, outputs)
+        figures.save(draw(), outputs)
+    return 0
+
+
+def cmd_mesh(args) -> int:
+    """Build the cap mesh of a configuration and write it as netCDF."""
+    from .mesh import cap_mesh, cap_mesh_spec
+    from .results import mesh_dataset, write_netcdf
+
+    params = _parameters(args)
+    (output,) = _check_outputs([args.output], {"nc"})
+    try:
+        mesh = cap_mesh(cap_mesh_spec(params))
+    except ValueError as err:
+        raise InputError(str(err)) from None
+    write_netcdf(mesh_dataset(mesh, params.config), output)
+    print(f"{output}: {mesh.n_cells} {mesh.element} cells, {mesh.n_nodes} nodes, {mesh.n_dofs} DOF, "
+          f"{len(mesh.surface_segments)} surface segments")
     return 0
 
 
@@ -79,11 +124,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_config_args(p)
     p.set_defaults(func=cmd_constants)
 
-    p = sub.add_parser("figure", help="render a model or experiment figure (Tn, modelCA, modelAM, TnTt, exp_FnJKR)")
+    p = sub.add_parser("figure", help="render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from "
+                                      "CONFIG, cap_setup from --input MESH.nc")
     p.add_argument("name", help="figure name")
-    _add_config_args(p)
+    p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) (model figures)")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help="config override")
+    p.add_argument("--input", metavar="FILE.nc", help="result file to draw from (cap_setup: a mesh file)")
     p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="output .pdf/.png (repeatable)")
     p.set_defaults(func=cmd_figure)
+
+    p = sub.add_parser("mesh", help="build the cap mesh of a configuration, write it as netCDF")
+    _add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="MESH.nc")
+    p.set_defaults(func=cmd_mesh)
     return parser
 
 

@@ -23,9 +23,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import analytic, contact  # noqa: E402
+from .mesh import Mesh  # noqa: E402
 from .params import Adhesion, Parameters, JKRSphereExperiment, PDMS_SPHERE  # noqa: E402
 
-__all__ = ["MODEL_FIGURES", "journal_style", "save", "fig_Tn", "fig_modelCA", "fig_modelAM", "fig_TnTt", "fig_exp_FnJKR"]
+__all__ = ["MODEL_FIGURES", "MESH_FIGURES", "journal_style", "save", "fig_Tn", "fig_modelCA", "fig_modelAM", "fig_TnTt",
+           "fig_exp_FnJKR", "fig_cap_setup"]
 
 # Marker colours of the paper's asterisks (its captions name them).
 BLUE, ORANGE, YELLOW, PURPLE, GREEN = "#0072BD", "#D95319", "#EDB120", "#7E2F8E", "#77AC30"
@@ -266,6 +268,50 @@ def fig_exp_FnJKR(p: Parameters | None = None, e: JKRSphereExperiment = PDMS_SPH
     fig.tight_layout()
     return fig
 
+
+def _mesh_lines(ax, mesh: Mesh, lw=0.15, color="0.25"):
+    from matplotlib.collections import PolyCollection
+
+    corners = mesh.nodes[mesh.cells[:, :4]]
+    ax.add_collection(PolyCollection(corners, facecolors="#dbe9f6", edgecolors=color, linewidths=lw))
+
+
+def fig_cap_setup(mesh: Mesh, p: Parameters):
+    """f:cap:setup: the cap, the rigid substrate above it, the mesh and a zoom on the contact band."""
+    from matplotlib.patches import FancyArrowPatch, Rectangle
+
+    g = p.geometry
+    b = g.half_base
+    band = float(mesh.info.get("band_half_width", 0.0))
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(DOUBLE_COLUMN, 5.2), gridspec_kw={"height_ratios": [1.25, 1]})
+    _mesh_lines(ax1, mesh, lw=0.08)
+    gap = 0.6
+    ax1.add_patch(Rectangle((-b - 4, g.H + gap), 2 * b + 8, 3.0, facecolor="0.75", edgecolor="k", lw=0.6, hatch="////"))
+    ax1.text(b - 1, g.H + gap + 1.5, "rigid substrate", ha="right", va="center", fontsize=7,
+             bbox=dict(facecolor="white", edgecolor="none", pad=1))
+    ax1.add_patch(Rectangle((-b - 4, -1.2), 2 * b + 8, 1.2, facecolor="white", edgecolor="k", lw=0.6, hatch="////"))
+    ax1.text(0, -0.6, r"base fixed, $\mathbf{u} = \mathbf{0}$", ha="center", va="center", fontsize=7,
+             bbox=dict(facecolor="white", edgecolor="none", pad=1))
+    ax1.add_patch(FancyArrowPatch((b - 12, g.H + gap + 3.6), (b - 4, g.H + gap + 3.6), arrowstyle="-|>", mutation_scale=8, lw=0.8))
+    ax1.text(b - 8, g.H + gap + 4.0, r"$\bar{u}$", ha="center", fontsize=8)
+    ax1.add_patch(FancyArrowPatch((-6, g.H + gap + 5.5), (-6, g.H + gap + 3.1), arrowstyle="-|>", mutation_scale=8, lw=0.8))
+    ax1.text(-5.4, g.H + gap + 4.6, r"$F_\mathrm{n}$ held fixed", fontsize=7)
+    ax1.add_patch(Rectangle((-band, g.H - 1.0), 2 * band, 1.25, fill=False, edgecolor=ORANGE, lw=0.8, ls="--"))
+    ax1.text(band + 0.5, g.H - 0.6, "contact band", color=ORANGE, fontsize=7)
+    ax1.annotate("", xy=(b + 1.5, 0), xytext=(b + 1.5, g.H), arrowprops=dict(arrowstyle="<->", lw=0.6))
+    ax1.text(b + 1.2, 0.3 * g.H, fr"$H = {g.H:g}\,L_0$", va="center", ha="right", fontsize=7)
+    ax1.text(-b - 2, 6.0, fr"$R = {g.R:g}\,L_0$" + "\nneo-Hooke,\nplane strain,\n" + fr"$\nu = {p.material.nu:g}$", fontsize=7, va="center")
+    ax1.set(xlim=(-b - 3, b + 5), ylim=(-1.5, g.H + gap + 6), aspect="equal", xlabel=r"$X\,/\,L_0$", ylabel=r"$Y\,/\,L_0$",
+            title=fr"(a) setup and mesh: {mesh.n_cells:,} {mesh.element} elements, {mesh.n_dofs:,} DOF")
+    _mesh_lines(ax2, mesh, lw=0.2)
+    w = min(1.5, max(band, 0.5))
+    ax2.set(xlim=(-w, w), ylim=(g.H - 0.45 * w, g.H + 0.05 * w), aspect="equal", xlabel=r"$X\,/\,L_0$", ylabel=r"$Y\,/\,L_0$",
+            title=fr"(b) zoom on the contact band (surface elements {mesh.info.get('h0', float('nan')):g} $L_0$ wide)")
+    fig.tight_layout()
+    return fig
+
+
+MESH_FIGURES: dict[str, Callable] = {"cap_setup": fig_cap_setup}
 
 MODEL_FIGURES: dict[str, Callable] = {
     "Tn": fig_Tn,

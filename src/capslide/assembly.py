@@ -1,0 +1,206 @@
+"""Bulk finite element assembly with a sparse pattern built once per mesh.
+
+DOFs are node-major: dof 2n is x, 2n + 1 is y of node n. Reference geometry
+(shape-function gradients and weights times Jacobians) is precomputed once;
+each Newton iteration only refills the CSR values through a stored
+COO-to-CSR map. Total Lagrangian, plane strain, internal units.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import material
+from .element import QUADS
+from .mesh import Mesh
+
+__all__ = ["cell_dofs", "SparsePattern", "Dirichlet", "BulkForm", "rigid_body_modes"]
+
+
+def cell_dofs(cells: np.ndarray) -> np.ndarray:
+    """(n_cells, 2 n_per_cell) DOF ids in node-major order (x, y of each node)."""
+    return np.stack([2 * cells, 2 * cells + 1], axis=-1).reshape(len(cells), -1)
+
+
+@dataclass(frozen=True)
+class SparsePattern:
+    """CSR structure of an element-block matrix and the map that fills it.
+
+    ``slot[k]`` is the CSR data position of the k-th entry of the flattened
+    element blocks (n_blocks, m, m); duplicates add up.
+    """
+
+    n: int
+    indptr: np.ndarray
+    indices: np.ndarray
+    slot: np.ndarray
+
+    @classmethod
+    def from_blocks(cls, dofs: np.ndarray, n: int) -> "SparsePattern":
+        m = dofs.shape[1]
+        rows = np.repeat(dofs, m, axis=1).ravel()
+        cols = np.tile(dofs, (1, m)).ravel()
+        keys = rows.astype(np.int64) * n + cols
+        uniq, slot = np.unique(keys, return_inverse=True)
+        r = uniq // n
+        indptr = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.bincount(r, minlength=n), out=indptr[1:])
+        return cls(n=n, indptr=indptr, indices=(uniq % n).astype(np.int32), slot=slot.ravel())
+
+    @property
+    def nnz(self) -> int:
+        return len(self.indices)
+
+    def values(self, blocks: np.ndarray) -> np.ndarray:
+        """CSR data from element blocks (n_blocks, m, m)."""
+        return np.bincount(self.slot, weights=blocks.ravel(), minlength=self.nnz)
+
+    def matrix(self, data: np.ndarray) -> sp.csr_matrix:
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    def positions(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """CSR data positions of given (row, col) pairs (all must be in the pattern)."""
+        out = np.empty(len(rows), dtype=np.int64)
+        for k, (r, c) in enumerate(zip(rows, cols)):
+            seg = self.indices[self.indptr[r] : self.indptr[r + 1]]
+            out[k] = self.indptr[r] + np.searchsorted(seg, c)
+        return out
+
+
+@dataclass(frozen=True)
+class Dirichlet:
+    """Whole-node Dirichlet conditions applied to a fixed CSR pattern.
+
+    Rows and columns of constrained DOFs are zeroed and their diagonal set
+    to one; the residual there is zeroed, so the Newton increment of a
+    constrained DOF is zero (prescribed values are set in u beforehand).
+    """
+
+    dofs: np.ndarray
+    zero_mask: np.ndarray  # CSR data positions in a constrained row or column
+    diag: np.ndarray  # CSR data positions of constrained diagonals
+
+    @classmethod
+    def on_nodes(cls, nodes: np.ndarray, pattern: SparsePattern) -> "Dirichlet":
+        dofs = np.sort(np.concatenate([2 * nodes, 2 * nodes + 1]))
+        fixed = np.zeros(pattern.n, dtype=bool)
+        fixed[dofs] = True
+        row_of = np.repeat(np.arange(pattern.n), np.diff(pattern.indptr))
+        zero_mask = np.flatnonzero(fixed[row_of] | fixed[pattern.indices])
+        return cls(dofs=dofs, zero_mask=zero_mask, diag=pattern.positions(dofs, dofs))
+
+    def apply(self, data: np.ndarray, residual: np.ndarray | None = None) -> None:
+        """In place: constrain CSR data (and the residual)."""
+        data[self.zero_mask] = 0.0
+        data[self.diag] = 1.0
+        if residual is not None:
+            residual[self.dofs] = 0.0
+
+
+class BulkForm:
+    """Internal forces and tangent of the neo-Hooke bulk on a mesh."""
+
+    OUTER_BUDGET_BYTES = 1 << 30  # static dN dN w products kept up to 1 GiB
+
+    def __init__(self, mesh: Mesh, lam: float, mu: float, quadrature: int | None = None):
+        ref = QUADS[mesh.element]
+        points, weights = ref.gauss(quadrature)
+        _, dN_dxi = ref.shape(points)  # (q, a, 2)
+        X = mesh.nodes[mesh.cells]  # (e, a, 2)
+        Jac = np.einsum("eai,qak->eqik", X, dN_dxi)  # dX_i/dxi_k, (e, q, 2, 2)
+        detJ = material.det2(Jac)
+        if np.any(detJ <= 0.0):
+            raise ValueError("mesh has inverted or degenerate elements")
+        inv = material.inv_transpose2(Jac, detJ)  # (dX/dxi)^{-T}
+        self.dN = np.einsum("qak,eqik->eqai", dN_dxi, inv)  # dN_a/dX_i, (e, q, a, 2)
+        self.wdetJ = detJ * weights  # (e, q)
+        self.dNw = self.dN * self.wdetJ[..., None, None]
+        self._outer_cache = None
+        self.mesh, self.lam, self.mu = mesh, lam, mu
+        self.dofs = cell_dofs(mesh.cells)
+        self.n_dofs = mesh.n_dofs
+        self.pattern = SparsePattern.from_blocks(self.dofs, self.n_dofs)
+
+    def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
+        """F = I + grad u at every quadrature point, (e, q, 2, 2)."""
+        ue = u.reshape(-1, 2)[self.mesh.cells]  # (e, a, 2)
+        # F_ij = delta_ij + sum_a u_ai dN_aj: (e, 1, 2, a) @ (e, q, a, 2)
+        return np.eye(2) + np.swapaxes(ue, 1, 2)[:, None] @ self.dN
+
+    def _gather(self, fe: np.ndarray) -> np.ndarray:
+        return np.bincount(self.dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
+
+    def _internal_force(self, P: np.ndarray) -> np.ndarray:
+        # f_ai = sum_q dN_aJ P_iJ w: (e, q, a, 2) @ (e, q, 2, 2)^T, summed over q
+        return self._gather((self.dNw @ np.swapaxes(P, -1, -2)).sum(axis=1))
+
+    def residual(self, u: np.ndarray) -> np.ndarray:
+        """Internal force vector f_int (E L0), node-major."""
+        return self._internal_force(material.first_piola(self.deformation_gradient(u), self.lam, self.mu))
+
+    @property
+    def _outer(self) -> np.ndarray | None:
+        """Static products dN_aJ dN_bL w, (e, a*b, q*4), or None above the memory budget."""
+        if self._outer_cache is None:
+            e, q, a, _ = self.dN.shape
+            if e * a * a * q * 4 * 8 <= self.OUTER_BUDGET_BYTES:
+                G = np.einsum("eqaJ,eqbL->eabqJL", self.dNw, self.dN)
+                self._outer_cache = G.reshape(e, a * a, q * 4)
+            else:
+                self._outer_cache = False
+        return self._outer_cache if self._outer_cache is not False else None
+
+    def _element_tangents(self, A: np.ndarray) -> np.ndarray:
+        """K_e[(a,i), (b,k)] = sum_q dN_aJ A_iJkL dN_bL w, (e, 2a, 2a)."""
+        e, q, a, _ = self.dN.shape
+        outer = self._outer
+        if outer is not None:  # one batched matmul: (e, ab, qJL) @ (e, qJL, ik)
+            At = A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * 4, 4)
+            K = (outer @ At).reshape(e, a, a, 2, 2).transpose(0, 1, 3, 2, 4)
+        else:  # two batched matmuls per quadrature point, no large static array
+            At = A.transpose(0, 1, 3, 2, 4, 5).reshape(e, q, 2, 8)  # J, (i, k, L)
+            S = (self.dNw @ At).reshape(e, q, a * 4, 2)  # (a, i, k), L
+            K = (S @ np.swapaxes(self.dN, -1, -2)).sum(axis=1).reshape(e, a, 2, 2, a).transpose(0, 1, 2, 4, 3)
+        return K.reshape(e, 2 * a, 2 * a)
+
+    def residual_and_tangent_data(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(f_int, CSR data of the tangent) for the fixed pattern."""
+        P, A = material.first_piola_and_tangent(self.deformation_gradient(u), self.lam, self.mu)
+        return self._internal_force(P), self.pattern.values(self._element_tangents(A))
+
+    def residual_and_tangent(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
+        f, data = self.residual_and_tangent_data(u)
+        return f, self.pattern.matrix(data)
+
+    def strain_energy(self, u: np.ndarray) -> float:
+        """Total strain energy per unit width (E L0^2)."""
+        F = self.deformation_gradient(u)
+        J = material.det2(F)
+        I1 = np.einsum("...ij,...ij->...", F, F) + 1.0
+        W = 0.25 * self.lam * (J**2 - 1 - 2 * np.log(J)) + 0.5 * self.mu * (I1 - 3 - 2 * np.log(J))
+        return float(np.sum(W * self.wdetJ))
+
+    def min_jacobian(self, u: np.ndarray) -> float:
+        """Smallest det F over the quadrature points (<= 0 means an inverted element)."""
+        return float(material.det2(self.deformation_gradient(u)).min())
+
+    def cell_first_invariant(self, u: np.ndarray) -> np.ndarray:
+        """I1(sigma) averaged over each cell's quadrature points (E), (n_cells,)."""
+        I1 = material.first_invariant(self.deformation_gradient(u), self.lam, self.mu)
+        return np.sum(I1 * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)
+
+
+def rigid_body_modes(nodes: np.ndarray) -> np.ndarray:
+    """The three 2D rigid-body modes (translation x, y; rotation) as (n_dofs, 3), node-major."""
+    n = len(nodes)
+    B = np.zeros((2 * n, 3))
+    B[0::2, 0] = 1.0
+    B[1::2, 1] = 1.0
+    c = nodes - nodes.mean(axis=0)
+    B[0::2, 2] = -c[:, 1]
+    B[1::2, 2] = c[:, 0]
+    return B
+

@@ -1,0 +1,231 @@
+"""Linear solvers behind one interface: pyamg-preconditioned Krylov and sparse LU.
+
+``solver.solve(A, B)`` solves A X = B for one or several right-hand sides
+(columns of B) with the same matrix, returning X and a :class:`SolveInfo`.
+Three kinds: ``amg`` (pyamg smoothed aggregation preconditioning CG or
+BiCGStab), ``lu_krylov`` (a stored SuperLU factorization of an earlier matrix
+preconditioning GMRES, refactorized when iterations grow) and ``direct``
+(a fresh SuperLU factorization per matrix, the reference and fallback).
+The AMG solver keeps its smoothed-aggregation hierarchy (built with the
+rigid-body modes as near-null space) across calls and rebuilds it when the
+Krylov iteration count has grown past ``rebuild_factor`` times the count
+right after the last rebuild, when a solve fails, or when asked to. The true
+relative residual ||b - A x|| / ||b|| is computed after every solve.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pyamg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+__all__ = ["SolveInfo", "LinearSolveError", "AMGSolver", "DirectSolver", "LUKrylovSolver", "make_solver", "SOLVERS"]
+
+
+class LinearSolveError(RuntimeError):
+    """A linear solve did not reach its tolerance (message says by how much)."""
+
+
+@dataclass
+class SolveInfo:
+    iterations: int = 0  # Krylov iterations over all right-hand sides (0 for direct)
+    true_residual: float = 0.0  # max over right-hand sides of ||b - A x|| / ||b||
+    rebuilt: bool = False  # hierarchy / factorization built in this call
+    setup_time: float = 0.0
+    solve_time: float = 0.0
+
+
+def _true_residual(A, X, B) -> float:
+    R = B - A @ X
+    nb = np.linalg.norm(B, axis=0)
+    nr = np.linalg.norm(R, axis=0)
+    return float(np.max(np.where(nb > 0, nr / np.where(nb > 0, nb, 1.0), nr)))
+
+
+@dataclass
+class AMGSolver:
+    """pyamg smoothed aggregation as preconditioner of CG (symmetric) or BiCGStab (unsymmetric; GMRES fallback).
+
+    ``near_null_space`` (n, k): the rigid-body modes for elasticity (None:
+    pyamg's constant default). ``symmetric=None`` decides per matrix.
+    """
+
+    near_null_space: np.ndarray | None = None
+    rtol: float = 1e-8
+    maxiter: int = 500
+    rebuild_factor: float = 2.0
+    symmetric: bool | None = None
+    block_size: int = 2
+    _ml: object = field(default=None, init=False, repr=False)
+    _base_iterations: float | None = field(default=None, init=False, repr=False)
+    stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
+
+    def invalidate(self) -> None:
+        """Force a rebuild at the next solve (for example after a mesh change)."""
+        self._ml = None
+
+    def _setup(self, A) -> float:
+        t = time.perf_counter()
+        Ab = A.tobsr(blocksize=(self.block_size, self.block_size)) if self.block_size > 1 else A
+        kwargs = {"B": self.near_null_space} if self.near_null_space is not None else {}
+        self._ml = pyamg.smoothed_aggregation_solver(Ab, max_coarse=500, **kwargs)
+        self._base_iterations = None
+        self.stats["setups"] += 1
+        return time.perf_counter() - t
+
+    def _is_symmetric(self, A) -> bool:
+        if self.symmetric is not None:
+            return self.symmetric
+        d = A - A.T
+        return d.nnz == 0 or abs(d).max() <= 1e-12 * abs(A).max()
+
+    def _krylov(self, A, b, M, symmetric):
+        count = [0]
+
+        def cb(_):
+            count[0] += 1
+
+        x0 = np.zeros_like(b)
+        if symmetric:
+            x, info = spla.cg(A, b, x0=x0, rtol=self.rtol, maxiter=self.maxiter, M=M, callback=cb)
+            return x, info, count[0]
+        # unsymmetric (sliding friction): BiCGStab; restarted GMRES(50) was seen to stagnate here
+        x, info = spla.bicgstab(A, b, x0=x0, rtol=self.rtol, maxiter=self.maxiter, M=M, callback=cb)
+        if info != 0:
+            x, info = spla.gmres(A, b, x0=x, rtol=self.rtol, restart=200, maxiter=max(1, self.maxiter // 200), M=M,
+                                 callback=cb, callback_type="pr_norm")
+        return x, info, count[0]
+
+    def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = False) -> tuple[np.ndarray, SolveInfo]:
+        B2 = B.reshape(len(B), -1)
+        info = SolveInfo()
+        if rebuild or self._ml is None:
+            info.setup_time, info.rebuilt = self._setup(A), True
+        symmetric = self._is_symmetric(A)
+        for attempt in range(2):
+            M = self._ml.aspreconditioner(cycle="V")
+            t = time.perf_counter()
+            X = np.empty_like(B2)
+            iters, failed = 0, False
+            for j in range(B2.shape[1]):
+                X[:, j], code, n = self._krylov(A, B2[:, j], M, symmetric)
+                iters += n
+                failed |= code != 0
+            info.solve_time += time.perf_counter() - t
+            info.iterations += iters
+            info.true_residual = _true_residual(A, X, B2)
+            per_rhs = iters / B2.shape[1]
+            if not failed and info.true_residual <= 10 * self.rtol:
+                break
+            if info.rebuilt:  # a fresh hierarchy failed too: nothing left to try here
+                raise LinearSolveError(f"AMG-Krylov stopped at relative residual {info.true_residual:.2e} after {iters} iterations")
+            info.setup_time += self._setup(A)
+            info.rebuilt = True
+        self.stats["solves"] += 1
+        self.stats["iterations"] += info.iterations
+        if self._base_iterations is None:
+            self._base_iterations = max(per_rhs, 1.0)
+        elif per_rhs > self.rebuild_factor * self._base_iterations:
+            self._ml = None  # rebuild rule: iterations grew; rebuild at the next solve
+        return X.reshape(B.shape), info
+
+
+@dataclass
+class DirectSolver:
+    """SciPy SuperLU (MMD on A^T + A ordering); a new factorization per matrix."""
+
+    permc_spec: str = "MMD_AT_PLUS_A"
+    stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
+
+    def invalidate(self) -> None:
+        pass
+
+    def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = True) -> tuple[np.ndarray, SolveInfo]:
+        info = SolveInfo(rebuilt=True)
+        t = time.perf_counter()
+        lu = spla.splu(A.tocsc(), permc_spec=self.permc_spec)
+        info.setup_time = time.perf_counter() - t
+        t = time.perf_counter()
+        X = lu.solve(B)
+        info.solve_time = time.perf_counter() - t
+        info.true_residual = _true_residual(A, X.reshape(len(B), -1), B.reshape(len(B), -1))
+        self.stats["setups"] += 1
+        self.stats["solves"] += 1
+        return X, info
+
+
+@dataclass
+class LUKrylovSolver:
+    """GMRES preconditioned by the SuperLU factors of an earlier matrix.
+
+    The factorization is reused across Newton iterations and load steps and
+    renewed when GMRES needs more than ``max_iterations_before_refactor``
+    iterations per right-hand side, or fails.
+    """
+
+    rtol: float = 1e-8
+    max_iterations_before_refactor: int = 12
+    permc_spec: str = "MMD_AT_PLUS_A"
+    _lu: object = field(default=None, init=False, repr=False)
+    stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
+
+    def invalidate(self) -> None:
+        self._lu = None
+
+    def _factor(self, A) -> float:
+        t = time.perf_counter()
+        self._lu = spla.splu(A.tocsc(), permc_spec=self.permc_spec)
+        self.stats["setups"] += 1
+        return time.perf_counter() - t
+
+    def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = False) -> tuple[np.ndarray, SolveInfo]:
+        B2 = B.reshape(len(B), -1)
+        info = SolveInfo()
+        if rebuild or self._lu is None:
+            info.setup_time, info.rebuilt = self._factor(A), True
+        for attempt in range(2):
+            lu = self._lu
+            M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
+            t = time.perf_counter()
+            X = np.empty_like(B2)
+            iters, failed = 0, False
+            for j in range(B2.shape[1]):
+                count = [0]
+                X[:, j], code = spla.gmres(A, B2[:, j], rtol=self.rtol, restart=40, maxiter=3, M=M,
+                                           callback=lambda _: count.__setitem__(0, count[0] + 1), callback_type="pr_norm")
+                iters += count[0]
+                failed |= code != 0
+            info.solve_time += time.perf_counter() - t
+            info.iterations += iters
+            info.true_residual = _true_residual(A, X, B2)
+            if not failed and info.true_residual <= 10 * self.rtol:
+                break
+            if info.rebuilt:
+                raise LinearSolveError(f"LU-preconditioned GMRES stopped at relative residual {info.true_residual:.2e}")
+            info.setup_time += self._factor(A)
+            info.rebuilt = True
+        if info.iterations > self.max_iterations_before_refactor * B2.shape[1]:
+            self._lu = None  # refactor at the next solve
+        self.stats["solves"] += 1
+        self.stats["iterations"] += info.iterations
+        return X.reshape(B.shape), info
+
+
+SOLVERS = ("amg", "lu_krylov", "direct")
+
+
+def make_solver(kind: str, nodes: np.ndarray | None = None, rtol: float = 1e-8):
+    """A solver by name: 'amg' (rigid-body modes of ``nodes``), 'lu_krylov' or 'direct'."""
+    if kind == "amg":
+        from .assembly import rigid_body_modes
+
+        return AMGSolver(near_null_space=None if nodes is None else rigid_body_modes(nodes), rtol=rtol)
+    if kind == "lu_krylov":
+        return LUKrylovSolver(rtol=rtol)
+    if kind == "direct":
+        return DirectSolver()
+    raise ValueError(f"unknown linear solver {kind!r} (allowed: {', '.join(SOLVERS)})")

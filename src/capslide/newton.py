@@ -1,0 +1,109 @@
+"""Newton's method with a backtracking line search; failure is returned, never hidden.
+
+The problem is given as two callables: ``residual(x) -> r`` and
+``linearize(x) -> (r, solve)`` where ``solve(r)`` returns the Newton
+increment dx of the linearization at x (so bordered systems and Dirichlet
+conditions stay with the caller). Convergence needs BOTH the residual
+(``||r|| <= atol`` or ``||r|| <= rtol * r_ref``, in force units) AND the
+increment (``||dx||_inf <= dx_tol``, in length units) to be small.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["NewtonOptions", "NewtonResult", "newton"]
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    rtol: float = 1e-9
+    atol: float = 1e-10
+    dx_tol: float = 1e-8
+    max_iterations: int = 30
+    line_search_steps: int = 8  # halvings before the full step is taken anyway
+    sufficient_decrease: float = 1e-4
+    divergence_factor: float = 1e6  # ||r|| above this times the initial one: diverged
+
+
+@dataclass
+class NewtonResult:
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    reason: str
+    residual_norms: list[float] = field(default_factory=list)
+    linear_iterations: int = 0
+
+
+def _norm(r: np.ndarray) -> float:
+    return float(np.linalg.norm(r))
+
+
+def newton(
+    residual: Callable[[np.ndarray], np.ndarray],
+    linearize: Callable[[np.ndarray], tuple[np.ndarray, Callable[[np.ndarray], np.ndarray]]],
+    x0: np.ndarray,
+    options: NewtonOptions = NewtonOptions(),
+    r_ref: float | None = None,
+    admissible: Callable[[np.ndarray], bool] | None = None,
+) -> NewtonResult:
+    """Solve residual(x) = 0 from x0.
+
+    ``r_ref`` scales the relative tolerance (default ||r(x0)||).
+    ``admissible(x)`` (for example: no inverted element) must hold for
+    every accepted iterate; the line search shortens the step until it
+    does, and the solve fails when it cannot.
+    """
+    x = np.array(x0, dtype=float, copy=True)
+    norms: list[float] = []
+    lin_its = 0
+    r, solve = linearize(x)
+    r_norm = _norm(r)
+    norms.append(r_norm)
+    r_ref = r_norm if r_ref is None else r_ref
+    tol = max(options.atol, options.rtol * r_ref)
+    r0 = max(r_norm, options.atol)
+    for it in range(1, options.max_iterations + 1):
+        if not math.isfinite(r_norm):
+            return NewtonResult(x, False, it - 1, "residual is not finite", norms, lin_its)
+        try:
+            dx = solve(r)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
+            return NewtonResult(x, False, it - 1, f"linear solve failed: {err}", norms, lin_its)
+        lin_its += getattr(solve, "iterations", 0)
+        if not np.all(np.isfinite(dx)):
+            return NewtonResult(x, False, it - 1, "Newton increment is not finite", norms, lin_its)
+        # backtracking: shorten the step until admissible, then until ||r|| decreases
+        alpha, accepted, x_ok = 1.0, False, None
+        for _ in range(options.line_search_steps + 1):
+            x_try = x - alpha * dx
+            if admissible is not None and not admissible(x_try):
+                alpha *= 0.5
+                continue
+            r_try = residual(x_try)
+            n_try = _norm(r_try)
+            if x_ok is None:
+                x_ok, n_ok, alpha_ok = x_try, n_try, alpha  # longest admissible step
+            if math.isfinite(n_try) and n_try <= (1.0 - options.sufficient_decrease * alpha) * r_norm:
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:  # no decrease found: take the longest admissible step (Newton may still converge)
+            if x_ok is None:
+                return NewtonResult(x, False, it - 1, "no admissible step (inverted elements)", norms, lin_its)
+            x_try, n_try, alpha = x_ok, n_ok, alpha_ok
+        x = x_try
+        r_norm = n_try
+        norms.append(r_norm)
+        step = alpha * float(np.max(np.abs(dx))) if dx.size else 0.0
+        if r_norm <= tol and step <= options.dx_tol:  # converged: no tangent needed at x
+            return NewtonResult(x, True, it, "converged", norms, lin_its)
+        if not math.isfinite(r_norm) or r_norm > options.divergence_factor * r0:
+            return NewtonResult(x, False, it, f"diverged: residual {r_norm:.3e}", norms, lin_its)
+        r, solve = linearize(x)
+    return NewtonResult(x, False, options.max_iterations, f"no convergence in {options.max_iterations} iterations (residual {r_norm:.3e})", norms, lin_its)

@@ -1,0 +1,53 @@
+"""Small drivers for the bulk-only tests: Newton on a mesh with Dirichlet nodes."""
+
+import numpy as np
+
+from capslide.assembly import BulkForm, Dirichlet
+from capslide.linsolve import make_solver
+from capslide.newton import NewtonOptions, newton
+from capslide.params import lame_plane_strain
+
+LAM, MU = lame_plane_strain(1.0, 0.4)
+
+
+def solve_dirichlet(mesh, nodes, values, solver="direct", options=NewtonOptions(), form=None, steps=4):
+    """Prescribe u[nodes] = values (n, 2) in ``steps`` equal load steps, return (u, last result, form)."""
+    form = form or BulkForm(mesh, LAM, MU)
+    bc = Dirichlet.on_nodes(np.asarray(nodes), form.pattern)
+    lin = make_solver(solver, mesh.nodes)
+    u = np.zeros(mesh.n_dofs)
+
+    def residual(u):
+        r = form.residual(u)
+        r[bc.dofs] = 0.0
+        return r
+
+    def linearize(u):
+        r, data = form.residual_and_tangent_data(u)
+        bc.apply(data, r)
+        A = form.pattern.matrix(data)
+
+        def solve(rhs):
+            x, info = lin.solve(A, rhs)
+            solve.iterations = info.iterations
+            return x
+
+        return r, solve
+
+    admissible = lambda x: form.min_jacobian(x) > 0.0  # noqa: E731
+    prescribed = np.zeros(mesh.n_dofs)
+    prescribed.reshape(-1, 2)[nodes] = values / steps
+    for k in range(1, steps + 1):
+        # linearized predictor: move the free DOFs with the prescribed increment
+        r, data = form.residual_and_tangent_data(u)
+        lift = form.pattern.matrix(data) @ prescribed
+        bc.apply(data, r)
+        rhs = r + lift
+        rhs[bc.dofs] = 0.0
+        u = u + prescribed - lin.solve(form.pattern.matrix(data), rhs)[0]
+        u.reshape(-1, 2)[nodes] = values * (k / steps)
+        res = newton(residual, linearize, u, options, r_ref=1.0, admissible=admissible)
+        if not res.converged:
+            return res.x, res, form
+        u = res.x
+    return u, res, form

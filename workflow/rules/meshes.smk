@@ -1,0 +1,43 @@
+# Meshes of the study (results/meshes/*.nc) and the setup figure f:cap:setup.
+STUDY_MESH = "results/meshes/cap_{element}_size{size}.nc".format(
+    element=config["mesh"]["element"], size=config["mesh"]["size"]
+)
+
+
+rule mesh:
+    input:
+        CONFIG_FILES,
+    output:
+        "results/meshes/cap_{element}_size{size}.nc",
+    wildcard_constraints:
+        element="Q1|Q2",
+        size=r"[0-9.]+",
+    log:
+        "logs/meshes/cap_{element}_size{size}.log",
+    benchmark:
+        "results/benchmarks/meshes/cap_{element}_size{size}.tsv"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " mesh " + CONFIG_ARGS
+        + " --set mesh.element={wildcards.element} --set mesh.size={wildcards.size} -o {output} > {log} 2>&1"
+
+
+rule cap_setup_figure:
+    input:
+        STUDY_MESH,
+    output:
+        pdf="results/figures/cap_setup.pdf",
+        png="results/figures/cap_setup.png",
+    log:
+        "logs/figures/cap_setup.log",
+    benchmark:
+        "results/benchmarks/figures/cap_setup.tsv"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " figure cap_setup --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
