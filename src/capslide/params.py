@@ -18,6 +18,7 @@ __all__ = [
     "Material",
     "Adhesion",
     "Friction",
+    "ContactSpec",
     "Geometry",
     "MeshSpec",
     "Loading",
@@ -121,6 +122,15 @@ class Friction:
 
 
 @dataclass(frozen=True)
+class ContactSpec:
+    """Contact integral settings in internal units (L0)."""
+
+    far_gap: float
+    repulsion_only: bool
+    area_gap: float
+
+
+@dataclass(frozen=True)
 class Geometry:
     """Cap geometry (L0)."""
 
@@ -145,6 +155,11 @@ class MeshSpec:
 class Loading:
     preload: float  # Fn* (E L0 W), positive = tensile
     ubar_max: float  # L0
+    approach_start_gap: float  # L0
+    approach_step: float  # L0
+    force_step: float  # E L0
+    min_force_step: float  # E L0
+    retract_from: float  # E L0
 
 
 @dataclass(frozen=True)
@@ -164,6 +179,7 @@ class Parameters:
     material: Material
     adhesion: Adhesion
     friction: Friction
+    contact: ContactSpec
     geometry: Geometry
     mesh: MeshSpec
     loading: Loading
@@ -198,13 +214,24 @@ class Parameters:
             material=Material(E=1.0, nu=float(mat["nu"]), lam=lam, mu=mu),
             adhesion=adhesion,
             friction=friction,
+            contact=ContactSpec(
+                far_gap=config["contact"]["far_gap_over_r0"] * c["r0"],
+                repulsion_only=bool(config["contact"]["repulsion_only"]),
+                area_gap=config["contact"]["area_gap_over_g_max"] * c["g_max"],
+            ),
             geometry=Geometry(R=float(geo["R"]), H=float(geo["H"])),
             mesh=MeshSpec(
                 element=msh["element"], size=float(msh["size"]),
                 surface_gauss_points=int(msh["surface_gauss_points"]),
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
             ),
-            loading=Loading(preload=float(load["preload"]), ubar_max=float(load["ubar_max"])),
+            loading=Loading(
+                preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),
+                approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
+                approach_step=load["approach_step_over_r0"] * c["r0"],
+                force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
+                retract_from=float(load["retract_from"]),
+            ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),

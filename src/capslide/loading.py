@@ -1,0 +1,181 @@
+"""Load path (DESIGN section 5): approach, force-controlled preload, pull-off detection.
+
+Every phase is an adaptive continuation in one scalar load parameter: the
+apex gap during the approach (local displacement control follows the
+jump-in instability through its turning point, so every recorded state is
+an exact equilibrium with no artificial term), then the normal force.
+Steps grow after easy Newton solves and are halved after failures; below
+the minimum step the phase ends with a reason instead of looping.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .interface import interval_measures
+from .mesh import H0_AT_SIZE_1
+from .model import CapModel, FixedApexGap, FixedForce
+from .newton import NewtonOptions, newton
+
+__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload"]
+
+PHASES = ("approach", "preload", "slide")
+
+
+@dataclass
+class StepRecord:
+    """One converged load step (internal units)."""
+
+    phase: str
+    ubar: float
+    h: float
+    Fn: float
+    Ft: float
+    area: float
+    area_compressive: float
+    area_stick: float
+    x_left: float
+    x_right: float
+    newton_iterations: int
+    krylov_iterations: int
+    wall_time: float
+    x_surface: np.ndarray = field(repr=False)
+    y_surface: np.ndarray = field(repr=False)
+    gap: np.ndarray = field(repr=False)
+    traction_n: np.ndarray = field(repr=False)
+    traction_t: np.ndarray = field(repr=False)
+    slip_state: np.ndarray = field(repr=False)
+
+
+@dataclass
+class PathResult:
+    records: list[StepRecord]
+    x: np.ndarray
+    status: str  # completed, detached, diverged
+    reason: str = ""
+    min_step: float = math.inf
+    cutbacks: int = 0
+
+
+def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its: int, krylov_its: int,
+            wall: float) -> StepRecord:
+    """Per-step scalars and surface profiles of a converged state."""
+    u, h = model.split(x)
+    g, xs = model.contact.gaps(u, h)
+    Tn, _ = model.contact.traction(g)
+    _, Fn = model.contact.force(u, h)
+    pts, gg, tn = xs.reshape(-1, 2), g.ravel(), Tn.ravel()
+    area, xl, xr = interval_measures(pts, gg - model.params.contact.area_gap)
+    area_c, _, _ = interval_measures(pts, -tn)
+    state = np.where(gg <= model.params.contact.area_gap, 1, 0).astype(np.int8)  # 0 free, 1 stick (no friction yet)
+    return StepRecord(phase, ubar, h, Fn, 0.0, area, area_c, 0.0, xl, xr, newton_its, krylov_its, wall,
+                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), np.zeros_like(tn), state)
+
+
+def _newton_options(model: CapModel) -> NewtonOptions:
+    s = model.params.solver
+    return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
+
+
+def continuation(
+    model: CapModel,
+    x: np.ndarray,
+    constraint: Callable[[float], object],
+    start: float,
+    end: float,
+    first_step: float,
+    phase: str,
+    records: list[StepRecord],
+    min_step: float,
+    max_step: float,
+    progress: Callable[[StepRecord], None] | None = None,
+    stop: Callable[[StepRecord], str | None] | None = None,
+) -> PathResult:
+    """Adaptive continuation of the load parameter from ``start`` to ``end``.
+
+    ``constraint(value)`` builds the model constraint for a parameter value.
+    ``stop(record)`` may end the phase early with a status ("detached").
+    """
+    direction = 1.0 if end >= start else -1.0
+    value, step = start, min(abs(first_step), max_step)
+    x_prev, value_prev = None, None
+    smallest, cutbacks = math.inf, 0
+    opts = _newton_options(model)
+    while direction * (end - value) > 1e-12 * max(1.0, abs(end)):
+        step = min(step, abs(end - value))
+        target = value + direction * step
+        t0 = time.perf_counter()
+        x0 = x
+        if x_prev is not None and value_prev != value:  # secant predictor
+            x0 = x + (x - x_prev) * ((target - value) / (value - value_prev))
+            if not model.admissible(x0):
+                x0 = x
+        c = constraint(target)
+        res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x0, opts, r_ref=1.0,
+                     admissible=model.admissible)
+        if not res.converged:
+            cutbacks += 1
+            step *= 0.5
+            if step < min_step:
+                return PathResult(records, x, "diverged", f"{phase}: step below minimum {min_step:g} at "
+                                  f"{value:.6g} ({res.reason})", smallest, cutbacks)
+            continue
+        x_prev, value_prev = x, value
+        x, value = res.x, target
+        smallest = min(smallest, step)
+        rec = measure(model, x, phase, 0.0, res.iterations, res.linear_iterations, time.perf_counter() - t0)
+        records.append(rec)
+        if progress:
+            progress(rec)
+        if stop and (status := stop(rec)):
+            return PathResult(records, x, status, f"{phase}: {status} at {value:.6g}", smallest, cutbacks)
+        if res.iterations <= 4:
+            step = min(step * 1.5, max_step)
+    return PathResult(records, x, "completed", "", smallest, cutbacks)
+
+
+def approach_and_preload(model: CapModel, progress=None) -> PathResult:
+    """Approach from above the apex, then ramp Fn to the target preload.
+
+    Tensile targets are reached by retracting from a compressed state
+    (``loading.retract_from``), as in the experiment.
+    """
+    p = model.params
+    a, L = p.adhesion, p.loading
+    records: list[StepRecord] = []
+    x = np.zeros(model.n_dofs + 1)
+    x[-1] = p.geometry.H + L.approach_start_gap
+    # 1. approach: apex gap from the start gap down to the equilibrium distance
+    res = continuation(model, x, FixedApexGap, L.approach_start_gap, a.g_eq, L.approach_step, "approach", records,
+                       min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress)
+    if res.status != "completed":
+        return res
+    x, cut, smallest = res.x, res.cutbacks, res.min_step
+    # 2. preload: force control to the target (through a compressed state for tensile targets)
+    targets = [L.preload]
+    if L.preload > 0.0 and L.retract_from < min(records[-1].Fn, L.preload):
+        targets = [L.retract_from, L.preload]
+    min_area = 2.0 * H0_AT_SIZE_1 * p.mesh.size
+
+    def detached(rec: StepRecord) -> str | None:
+        return "detached" if rec.area < min_area else None
+
+    for target in targets:
+        res = continuation(model, x, FixedForce, records[-1].Fn, target, L.force_step, "preload", records,
+                           min_step=L.min_force_step, max_step=L.force_step, progress=progress, stop=detached)
+        cut += res.cutbacks
+        smallest = min(smallest, res.min_step)
+        if res.status == "diverged" and target > records[-1].Fn and target > 0:
+            # no equilibrium at the requested tensile force: pull-off
+            return PathResult(records, res.x, "detached", f"pull-off: no equilibrium beyond Fn = {records[-1].Fn:.6g}",
+                              smallest, cut)
+        if res.status != "completed":
+            res.cutbacks, res.min_step = cut, smallest
+            return res
+        x = res.x
+    return PathResult(records, x, "completed", "", smallest, cut)
