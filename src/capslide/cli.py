@@ -19,6 +19,7 @@ from .config import ConfigError, load_config
 from .params import Parameters
 
 EXIT_BAD_INPUT = 2
+EXIT_STATUS = {"completed": 0, "detached": 3, "diverged": 4}
 
 
 class InputError(ValueError):
@@ -115,6 +116,62 @@ def cmd_mesh(args) -> int:
     return 0
 
 
+def _progress_printer(stream=sys.stderr):
+    """One log line per step, or a self-updating line on a terminal."""
+    tty = stream.isatty()
+
+    def show(rec) -> None:
+        line = (f"{rec.phase:8s} ubar={rec.ubar:7.4f} h={rec.h:9.5f} Fn={rec.Fn:+.5f} Ft={rec.Ft:+.5f} "
+                f"area={rec.area:8.4f} stick={rec.area_stick:8.4f} newton={rec.newton_iterations:2d} "
+                f"krylov={rec.krylov_iterations:4d} t={rec.wall_time:6.2f}s")
+        stream.write(("\r" + line) if tty else line + "\n")
+        stream.flush()
+
+    return show
+
+
+def cmd_run(args) -> int:
+    """Run one case end to end and write its netCDF file (also when it fails)."""
+    from .case import run_case
+    from .results import case_dataset, write_netcdf
+
+    params = _parameters(args)
+    (output,) = _check_outputs([args.output], {"nc"})
+    result = run_case(params, progress=None if args.quiet else _progress_printer())
+    if not args.quiet and sys.stderr.isatty():
+        sys.stderr.write("\n")
+    write_netcdf(case_dataset(result), output)
+    s = result.scalars
+    print(f"{output}: {result.status}{' (' + result.reason + ')' if result.reason else ''}; {len(result.records)} steps, "
+          f"{result.wall_time:.1f} s; peak Ft = {s['peak_Ft']:.6g}, onset ubar = {s['onset_ubar']:.6g}")
+    return EXIT_STATUS[result.status]
+
+
+def cmd_inspect(args) -> int:
+    """Print parameters, status and case scalars of a case file as a table."""
+    import xarray as xr
+
+    try:
+        ds = xr.open_dataset(args.file, engine="netcdf4")
+    except (OSError, ValueError) as err:
+        raise InputError(f"cannot read netCDF file '{args.file}': {err}") from None
+    with ds:
+        rows = [("status", ds.attrs.get("status", "?")), ("status_reason", ds.attrs.get("status_reason", ""))]
+        for key in ("friction.model", "friction.s_cut", "loading.preload", "mesh.element", "mesh.size", "n_dofs",
+                    "cutbacks", "min_step", "case_wall_time"):
+            if key in ds.attrs:
+                rows.append((key, ds.attrs[key]))
+        for name in ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area"):
+            if name in ds:
+                rows.append((name, f"{float(ds[name]):.6g}  ({ds[name].attrs.get('long_name', '')})"))
+        if "step" in ds.sizes:
+            rows.append(("steps", ds.sizes["step"]))
+    width = max(len(k) for k, _ in rows)
+    for key, value in rows:
+        print(f"{key:<{width}}  {value}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="capslide", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
@@ -132,6 +189,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--input", metavar="FILE.nc", help="result file to draw from (cap_setup: a mesh file)")
     p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="output .pdf/.png (repeatable)")
     p.set_defaults(func=cmd_figure)
+
+    p = sub.add_parser("run", help="run one case (mesh, approach, preload, slide), write its netCDF file")
+    _add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="CASE.nc")
+    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
+    p.add_argument("file", metavar="CASE.nc")
+    p.set_defaults(func=cmd_inspect)
 
     p = sub.add_parser("mesh", help="build the cap mesh of a configuration, write it as netCDF")
     _add_config_args(p)

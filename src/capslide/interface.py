@@ -8,6 +8,14 @@ T = Tn(g_n) n_p (theta = J_l = 1; Mergel et al. 2019, eq. Tn). Sign
 conventions: Fn = integral of T_y (positive = tensile); the residual of the
 cap is R = f_int - f_contact.
 
+Friction (DESIGN section 3): each Gauss point keeps an anchor xi, a material
+point of the substrate in the substrate's frame; the tangential gap is
+g_t = x - (xi + ubar), the trial traction per reference area -eps_t g_t,
+returned to the threshold J_s t_slide(g_n) (model DI, J_s = |dx/dX| the
+surface stretch) or T_slide(g_n) (model EA). The traction on the cap is
+T_t e_x (positive in the sliding direction). Anchors change only in
+:meth:`SurfaceContact.commit`, called at converged steps.
+
 Only points with g_n below ``far_gap`` are evaluated and assembled: the
 law's tail beyond it is dropped (the error it makes is a measured knob).
 """
@@ -21,9 +29,11 @@ import numpy as np
 from . import contact
 from .element import gauss_legendre, line_shape
 from .mesh import Mesh
-from .params import Adhesion
+from .params import Adhesion, Friction
 
-__all__ = ["SurfaceQuadrature", "NormalContact", "ContactLinearization", "interval_measures"]
+__all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization", "FREE", "STICK", "SLIP", "interval_measures"]
+
+FREE, STICK, SLIP = 0, 1, 2  # slip_state flags
 
 
 @dataclass(frozen=True)
@@ -61,14 +71,15 @@ class SurfaceQuadrature:
 class ContactLinearization:
     """Contact terms of the residual and their derivatives.
 
-    ``f`` (n_dofs) contact force on the cap; ``Fn`` its integrated y
-    component; ``blocks`` (k, 2(p+1), 2(p+1)) dR/du of the active segments
+    ``f`` (n_dofs) contact force on the cap; ``Fn``, ``Ft`` its integrated y
+    and x components; ``blocks`` (k, 2(p+1), 2(p+1)) dR/du of the active segments
     ``active_segments`` (R = f_int - f); ``dR_dh`` (n_dofs); ``dFn_du``
     (n_dofs); ``dFn_dh`` (scalar).
     """
 
     f: np.ndarray
     Fn: float
+    Ft: float
     blocks: np.ndarray
     active_segments: np.ndarray
     dR_dh: np.ndarray
@@ -76,19 +87,45 @@ class ContactLinearization:
     dFn_dh: float
 
 
-class NormalContact:
-    """CGCM normal contact of the cap surface against the rigid flat y = h."""
+@dataclass
+class _Points:
+    """Pointwise contact quantities on the active segments (k, g)."""
 
-    def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False):
-        self.mesh, self.adhesion = mesh, adhesion
+    act: np.ndarray
+    g: np.ndarray
+    Tn: np.ndarray
+    dTn: np.ndarray
+    Tt: np.ndarray | None = None
+    dTt_dx: np.ndarray | None = None  # d T_t / d x (tangential position)
+    dTt_dg: np.ndarray | None = None  # d T_t / d g_n
+    dTt_dJ: np.ndarray | None = None  # d T_t / d J_s (DI)
+    t: np.ndarray | None = None  # current tangent dx/ds (k, g, 2)
+    T_len: np.ndarray | None = None  # |dX/ds| (k, g)
+    slipping: np.ndarray | None = None
+
+
+class SurfaceContact:
+    """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h."""
+
+    def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
+                 friction: Friction | None = None, contact_gap: float = np.inf):
+        self.mesh, self.adhesion, self.friction = mesh, adhesion, friction
+        self.contact_gap = contact_gap  # points with g_n <= contact_gap count as in contact
         self.quad = SurfaceQuadrature.on(mesh, n_gauss)
         self.far_gap = far_gap
         self.repulsion_only = repulsion_only
         seg = mesh.surface_segments
         self.seg_dofs = np.stack([2 * seg, 2 * seg + 1], axis=-1).reshape(len(seg), -1)  # (s, 2(p+1))
         self.n_dofs = mesh.n_dofs
+        self.anchors: np.ndarray | None = None  # (s, g) substrate-frame anchors; None: friction not started
+        dX = np.einsum("ga,sai->sgi", self.quad.dN, self.quad.X_nodes)
+        self._ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
 
-    # -- pointwise law ---------------------------------------------------
+    @property
+    def friction_active(self) -> bool:
+        return self.anchors is not None and self.friction is not None and self.friction.model != "none"
+
+    # -- pointwise laws ---------------------------------------------------
     def traction(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Tn(g) and dTn/dg (regularized CGCM; repulsion only if asked: max(Tn, 0))."""
         a = self.adhesion
@@ -97,6 +134,13 @@ class NormalContact:
             dTn = np.where(Tn > 0.0, dTn, 0.0)
             Tn = np.maximum(Tn, 0.0)
         return Tn, dTn
+
+    def threshold(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Sliding threshold and d/dg: DI per current area (t_slide), EA per reference area (T_slide)."""
+        f, a = self.friction, self.adhesion
+        if f.model == "DI":
+            return contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)
+        return contact.ea_threshold(g, f.mu_EA, f.g_cut_EA, a.T0, a.r0, a.g_reg)
 
     def gaps(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Normal gaps (s, g) and current positions (s, g, 2)."""
@@ -107,44 +151,107 @@ class NormalContact:
         """Segments with at least one Gauss point closer than far_gap."""
         return np.flatnonzero(np.any(g < self.far_gap, axis=1))
 
-    # -- residual and linearization --------------------------------------
-    def _point_values(self, g: np.ndarray):
+    def _points(self, u: np.ndarray, h: float, ubar: float, with_friction: bool) -> _Points:
+        x, t = self.quad.current(u)
+        g = h - x[..., 1]
+        act = self.active(g)
+        g, x, t = g[act], x[act], t[act]
         near = g < self.far_gap
         Tn, dTn = self.traction(np.where(near, g, self.far_gap))
-        return np.where(near, Tn, 0.0), np.where(near, dTn, 0.0)
+        pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0))
+        if with_friction and self.friction_active:
+            f = self.friction
+            thr, dthr = self.threshold(g)
+            thr, dthr = np.where(near, thr, 0.0), np.where(near, dthr, 0.0)
+            T_len = self._ref_len[act]
+            J = np.linalg.norm(t, axis=-1) / T_len
+            if f.model == "DI":
+                thr_ref, dthr_ref = J * thr, J * dthr
+            else:
+                thr_ref, dthr_ref = thr, dthr
+            trial = -f.eps_t * (x[..., 0] - self.anchors[act] - ubar)
+            Tt, slipping, dT_dtrial, dT_dthr = contact.return_map(trial, thr_ref)
+            pts.Tt, pts.slipping = Tt, slipping
+            pts.dTt_dx = -f.eps_t * dT_dtrial
+            pts.dTt_dg = dT_dthr * dthr_ref
+            pts.dTt_dJ = dT_dthr * thr if f.model == "DI" else np.zeros_like(Tt)
+            pts.t, pts.T_len = t, T_len
+        return pts
 
-    def force(self, u: np.ndarray, h: float) -> tuple[np.ndarray, float]:
-        """Contact force vector on the cap (n_dofs) and Fn."""
-        g, _ = self.gaps(u, h)
-        act = self.active(g)
-        Tn, _ = self._point_values(g[act])
-        W = self.quad.weight[act]
-        fy = -np.einsum("ga,sg,sg->sa", self.quad.N, Tn, W)  # T_y = -Tn
+    # -- residual and linearization --------------------------------------
+    def force(self, u: np.ndarray, h: float, ubar: float = 0.0) -> tuple[np.ndarray, float, float]:
+        """Contact force vector on the cap (n_dofs), Fn and Ft."""
+        pts = self._points(u, h, ubar, with_friction=True)
+        W, N, seg = self.quad.weight[pts.act], self.quad.N, self.quad.segments[pts.act]
         f = np.zeros(self.n_dofs)
-        np.add.at(f, 2 * self.quad.segments[act] + 1, fy)
-        return f, float(-np.sum(Tn * W))
+        np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, pts.Tn, W))  # T_y = -Tn
+        Ft = 0.0
+        if pts.Tt is not None:
+            np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
+            Ft = float(np.sum(pts.Tt * W))
+        return f, float(-np.sum(pts.Tn * W)), Ft
 
-    def linearize(self, u: np.ndarray, h: float) -> ContactLinearization:
-        g, _ = self.gaps(u, h)
-        act = self.active(g)
-        Tn, dTn = self._point_values(g[act])
-        W = self.quad.weight[act]
-        N = self.quad.N
+    def linearize(self, u: np.ndarray, h: float, ubar: float = 0.0) -> ContactLinearization:
+        pts = self._points(u, h, ubar, with_friction=True)
+        act = pts.act
+        W, N, dN = self.quad.weight[act], self.quad.N, self.quad.dN
         seg = self.quad.segments[act]
-        f = np.zeros(self.n_dofs)
-        np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, Tn, W))
-        # dT_y/dy = Tn'(g) (g = h - y), so dR_ay/du_by = -int N_a N_b Tn' dA
-        kyy = -np.einsum("ga,gb,sg,sg->sab", N, N, dTn, W)
         p1 = N.shape[1]
+        f = np.zeros(self.n_dofs)
+        np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, pts.Tn, W))
         blocks = np.zeros((len(act), p1, 2, p1, 2))
-        blocks[:, :, 1, :, 1] = kyy
+        # normal: dT_y/dy = Tn'(g) (g = h - y), so dR_ay/du_by = -int N_a N_b Tn' dA
+        blocks[:, :, 1, :, 1] = -np.einsum("ga,gb,sg,sg->sab", N, N, pts.dTn, W)
         dR_dh = np.zeros(self.n_dofs)
-        np.add.at(dR_dh, 2 * seg + 1, np.einsum("ga,sg,sg->sa", N, dTn, W))  # -d(T_y)/dh = Tn'
-        # Fn = -int Tn dA: dFn/du_by = int Tn' N_b dA, dFn/dh = -int Tn' dA
+        np.add.at(dR_dh, 2 * seg + 1, np.einsum("ga,sg,sg->sa", N, pts.dTn, W))  # -d(T_y)/dh = Tn'
+        dFn_du = dR_dh.copy()  # Fn = -int Tn dA: dFn/du_by = int Tn' N_b dA
+        Ft = 0.0
+        if pts.Tt is not None:
+            np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
+            Ft = float(np.sum(pts.Tt * W))
+            # R_ax = ... - int N_a T_t dA; T_t depends on x_x (stick), g_n = h - y and J_s (slip)
+            NW = N[None] * W[..., None]  # (k, g, a)
+            blocks[:, :, 0, :, 0] -= np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dx)
+            blocks[:, :, 0, :, 1] += np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dg)  # dg/dy = -1
+            # dJ_s/du_bi = dN_b t_i / (|t| |dX/ds|)
+            dJ = pts.t / (np.linalg.norm(pts.t, axis=-1) * pts.T_len)[..., None]  # (k, g, 2)
+            blocks[:, :, 0, :, :] -= np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.dTt_dJ, dJ)
+            np.add.at(dR_dh, 2 * seg, -np.einsum("sga,sg->sa", NW, pts.dTt_dg))
         return ContactLinearization(
-            f=f, Fn=float(-np.sum(Tn * W)), blocks=blocks.reshape(len(act), 2 * p1, 2 * p1), active_segments=act,
-            dR_dh=dR_dh, dFn_du=dR_dh.copy(), dFn_dh=float(-np.sum(dTn * W)),
+            f=f, Fn=float(-np.sum(pts.Tn * W)), Ft=Ft, blocks=blocks.reshape(len(act), 2 * p1, 2 * p1),
+            active_segments=act, dR_dh=dR_dh, dFn_du=dFn_du, dFn_dh=float(-np.sum(pts.dTn * W)),
         )
+
+    # -- friction history ---------------------------------------------------
+    def start_friction(self, u: np.ndarray, ubar: float = 0.0) -> None:
+        """Anchor every point where it is: zero tangential gap."""
+        x, _ = self.quad.current(u)
+        self.anchors = x[..., 0] - ubar
+
+    def tangential_state(self, u: np.ndarray, h: float, ubar: float):
+        """Per point (s, g): tangential traction T_t and slip flags (FREE, STICK, SLIP)."""
+        Tt = np.zeros(self.quad.weight.shape)
+        state = np.full(Tt.shape, FREE, dtype=np.int8)
+        g, _ = self.gaps(u, h)
+        in_contact = g <= self.contact_gap
+        if self.friction_active:
+            pts = self._points(u, h, ubar, with_friction=True)
+            Tt[pts.act] = pts.Tt
+            st = np.where(pts.slipping, SLIP, STICK).astype(np.int8)
+            state[pts.act] = st
+            state[~in_contact] = FREE
+        else:
+            state[in_contact] = STICK if self.friction is not None and self.friction.model != "none" else SLIP
+        return Tt, state
+
+    def commit(self, u: np.ndarray, h: float, ubar: float) -> None:
+        """Update the anchors to the converged state (slipping points move with the return map)."""
+        if not self.friction_active:
+            return
+        x, _ = self.quad.current(u)
+        Tt, _ = self.tangential_state(u, h, ubar)
+        # anchor such that -eps_t (x - xi - ubar) = T_t
+        self.anchors = x[..., 0] - ubar + Tt / self.friction.eps_t
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:

@@ -1,4 +1,4 @@
-"""Load path (DESIGN section 5): approach, force-controlled preload, pull-off detection.
+"""Load path (DESIGN section 5): approach, force-controlled preload, sliding at fixed Fn.
 
 Every phase is an adaptive continuation in one scalar load parameter: the
 apex gap during the approach (local displacement control follows the
@@ -17,12 +17,13 @@ from typing import Callable
 
 import numpy as np
 
-from .interface import interval_measures
+from .interface import STICK, interval_measures
 from .mesh import H0_AT_SIZE_1
-from .model import CapModel, FixedApexGap, FixedForce
+from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
 from .newton import NewtonOptions, newton
 
-__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload"]
+__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload", "slide",
+           "run_load_path", "sliding_onset"]
 
 PHASES = ("approach", "preload", "slide")
 
@@ -68,13 +69,14 @@ def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its:
     u, h = model.split(x)
     g, xs = model.contact.gaps(u, h)
     Tn, _ = model.contact.traction(g)
-    _, Fn = model.contact.force(u, h)
-    pts, gg, tn = xs.reshape(-1, 2), g.ravel(), Tn.ravel()
+    _, Fn, Ft = model.contact.force(u, h, ubar)
+    Tt, state = model.contact.tangential_state(u, h, ubar)
+    pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
     area, xl, xr = interval_measures(pts, gg - model.params.contact.area_gap)
     area_c, _, _ = interval_measures(pts, -tn)
-    state = np.where(gg <= model.params.contact.area_gap, 1, 0).astype(np.int8)  # 0 free, 1 stick (no friction yet)
-    return StepRecord(phase, ubar, h, Fn, 0.0, area, area_c, 0.0, xl, xr, newton_its, krylov_its, wall,
-                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), np.zeros_like(tn), state)
+    area_s, _, _ = interval_measures(pts, np.where(st == STICK, -1.0, 1.0))
+    return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
+                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy())
 
 
 def _newton_options(model: CapModel) -> NewtonOptions:
@@ -95,20 +97,31 @@ def continuation(
     max_step: float,
     progress: Callable[[StepRecord], None] | None = None,
     stop: Callable[[StepRecord], str | None] | None = None,
+    breakpoints: tuple[float, ...] = (),
+    on_breakpoint: Callable[[float, np.ndarray], None] | None = None,
 ) -> PathResult:
     """Adaptive continuation of the load parameter from ``start`` to ``end``.
 
     ``constraint(value)`` builds the model constraint for a parameter value.
     ``stop(record)`` may end the phase early with a status ("detached").
+    Steps end exactly on every value in ``breakpoints``, where
+    ``on_breakpoint(value, x)`` is called.
     """
     direction = 1.0 if end >= start else -1.0
     value, step = start, min(abs(first_step), max_step)
     x_prev, value_prev = None, None
     smallest, cutbacks = math.inf, 0
     opts = _newton_options(model)
-    while direction * (end - value) > 1e-12 * max(1.0, abs(end)):
+    tol = 1e-12 * max(1.0, abs(end))
+    pending = sorted((b for b in breakpoints if direction * (b - start) > tol and direction * (end - b) >= -tol),
+                     key=lambda b: direction * b)
+    while direction * (end - value) > tol:
         step = min(step, abs(end - value))
+        if pending:
+            step = min(step, abs(pending[0] - value))
         target = value + direction * step
+        if pending and abs(target - pending[0]) <= tol:
+            target = pending[0]
         t0 = time.perf_counter()
         x0 = x
         if x_prev is not None and value_prev != value:  # secant predictor
@@ -128,10 +141,16 @@ def continuation(
         x_prev, value_prev = x, value
         x, value = res.x, target
         smallest = min(smallest, step)
-        rec = measure(model, x, phase, 0.0, res.iterations, res.linear_iterations, time.perf_counter() - t0)
+        ubar = getattr(c, "ubar", 0.0)
+        rec = measure(model, x, phase, ubar, res.iterations, res.linear_iterations, time.perf_counter() - t0)
+        model.contact.commit(x[:-1], x[-1], ubar)  # friction history only at converged steps, after recording
         records.append(rec)
         if progress:
             progress(rec)
+        if pending and target == pending[0]:
+            pending.pop(0)
+            if on_breakpoint:
+                on_breakpoint(target, x)
         if stop and (status := stop(rec)):
             return PathResult(records, x, status, f"{phase}: {status} at {value:.6g}", smallest, cutbacks)
         if res.iterations <= 4:
@@ -179,3 +198,48 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
             return res
         x = res.x
     return PathResult(records, x, "completed", "", smallest, cut)
+
+
+def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=None, snapshot_ubar=(),
+          on_snapshot=None) -> PathResult:
+    """Slide the substrate from ubar = 0 to ubar_max at the fixed normal force (the last record's Fn)."""
+    p = model.params
+    L = p.loading
+    Fn = L.preload
+    model.contact.start_friction(x[:-1], 0.0)
+    min_area = 2.0 * H0_AT_SIZE_1 * p.mesh.size
+
+    def detached(rec: StepRecord) -> str | None:
+        return "detached" if rec.area < min_area else None
+
+    if on_snapshot is not None and any(b == 0.0 for b in snapshot_ubar):
+        on_snapshot(0.0, x)
+    return continuation(model, x, lambda ubar: SlideAtForce(ubar, Fn), 0.0, L.ubar_max, L.slide_step, "slide",
+                        records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
+                        stop=detached, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot)
+
+
+def run_load_path(model: CapModel, progress=None, snapshot_ubar=(), on_snapshot=None) -> PathResult:
+    """Approach, preload and slide; the result carries every converged step."""
+    res = approach_and_preload(model, progress)
+    if res.status != "completed" or model.params.loading.ubar_max == 0.0:
+        return res
+    res2 = slide(model, res.x, res.records, progress, snapshot_ubar, on_snapshot)
+    res2.cutbacks += res.cutbacks
+    res2.min_step = min(res.min_step, res2.min_step)
+    return res2
+
+
+def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
+    """Peak Ft and the onset of full sliding (first slide step with no sticking point in contact)."""
+    slide_recs = [r for r in records if r.phase == "slide"]
+    out = {"peak_Ft": math.nan, "onset_ubar": math.nan, "onset_Ft": math.nan, "onset_area": math.nan}
+    if not slide_recs:
+        return out
+    Ft = np.array([r.Ft for r in slide_recs])
+    out["peak_Ft"] = float(Ft[np.argmax(np.abs(Ft))])
+    for r in slide_recs:
+        if r.ubar != 0.0 and r.area > 0.0 and not np.any(r.slip_state == STICK):
+            out.update(onset_ubar=r.ubar, onset_Ft=r.Ft, onset_area=r.area)
+            break
+    return out

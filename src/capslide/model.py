@@ -7,6 +7,7 @@ one scalar constraint G(x) = 0 that fixes the load path:
 * ``FixedForce(F*)``:   G = Fn(u, h) - F*    (force control)
 * ``FixedApexGap(g*)``: G = h - y_apex - g*  (local displacement control that
   follows the jump-in instability through its turning point)
+* ``SlideAtForce(ubar, F*)``: G = Fn - F* with the substrate slid by ubar
 
 Each Newton step solves the bordered system [K c; d^T e] with two solves on
 the same matrix K (K z1 = R, K z2 = c) and the scalar Schur complement
@@ -20,12 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from .assembly import BulkForm, Dirichlet
-from .interface import NormalContact
+from .interface import SurfaceContact
 from .linsolve import make_solver
 from .mesh import Mesh
 from .params import Parameters
 
-__all__ = ["FixedHeight", "FixedForce", "FixedApexGap", "CapModel"]
+__all__ = ["FixedHeight", "FixedForce", "FixedApexGap", "SlideAtForce", "CapModel"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,12 @@ class FixedForce:
 @dataclass(frozen=True)
 class FixedApexGap:
     gap: float
+
+
+@dataclass(frozen=True)
+class SlideAtForce:
+    ubar: float
+    Fn: float
 
 
 class _BorderedSolve:
@@ -70,9 +77,10 @@ class CapModel:
         self.mesh, self.params = mesh, params
         m = params.material
         self.bulk = BulkForm(mesh, m.lam, m.mu)
-        self.contact = NormalContact(
+        self.contact = SurfaceContact(
             mesh, params.adhesion, params.mesh.surface_gauss_points,
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
+            friction=params.friction, contact_gap=params.contact.area_gap,
         )
         self.bc = Dirichlet.on_nodes(mesh.base, self.bulk.pattern)
         self.solver = make_solver(solver or params.solver.linear, mesh.nodes, params.solver.krylov_rtol)
@@ -102,7 +110,7 @@ class CapModel:
         u, h = self.split(x)
         if isinstance(constraint, FixedHeight):
             return h - constraint.h
-        if isinstance(constraint, FixedForce):
+        if isinstance(constraint, (FixedForce, SlideAtForce)):
             return Fn - constraint.Fn
         if isinstance(constraint, FixedApexGap):
             return self.apex_gap(x) - constraint.gap
@@ -111,7 +119,7 @@ class CapModel:
     # -- Newton callables -------------------------------------------------
     def residual(self, x: np.ndarray, constraint) -> np.ndarray:
         u, h = self.split(x)
-        f_c, Fn = self.contact.force(u, h)
+        f_c, Fn, _ = self.contact.force(u, h, getattr(constraint, "ubar", 0.0))
         r = self.bulk.residual(u) - f_c
         r[self.bc.dofs] = 0.0
         return np.concatenate([r, [self._constraint(constraint, x, Fn)]])
@@ -119,7 +127,7 @@ class CapModel:
     def linearize(self, x: np.ndarray, constraint):
         u, h = self.split(x)
         f_int, data = self.bulk.residual_and_tangent_data(u)
-        lin = self.contact.linearize(u, h)
+        lin = self.contact.linearize(u, h, getattr(constraint, "ubar", 0.0))
         np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
         r = f_int - lin.f
         self.bc.apply(data, r)
@@ -127,7 +135,7 @@ class CapModel:
         c[self.bc.dofs] = 0.0
         if isinstance(constraint, FixedHeight):
             d, e = np.zeros(self.n_dofs), 1.0
-        elif isinstance(constraint, FixedForce):
+        elif isinstance(constraint, (FixedForce, SlideAtForce)):
             d, e = lin.dFn_du.copy(), lin.dFn_dh
             d[self.bc.dofs] = 0.0
         else:  # FixedApexGap: G = h - Y_apex - u_apex,y - g*

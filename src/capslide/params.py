@@ -160,6 +160,9 @@ class Loading:
     force_step: float  # E L0
     min_force_step: float  # E L0
     retract_from: float  # E L0
+    slide_step: float  # L0
+    max_slide_step: float  # L0
+    min_slide_step: float  # L0
 
 
 @dataclass(frozen=True)
@@ -231,6 +234,8 @@ class Parameters:
                 approach_step=load["approach_step_over_r0"] * c["r0"],
                 force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
                 retract_from=float(load["retract_from"]),
+                slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
+                min_slide_step=float(load["min_slide_step"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),

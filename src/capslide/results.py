@@ -20,7 +20,12 @@ from . import __version__
 from .config import flatten
 from .mesh import Mesh
 
-__all__ = ["CONVENTIONS", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset", "read_mesh"]
+__all__ = ["CONVENTIONS", "STATUSES", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset", "read_mesh",
+           "case_dataset"]
+
+STATUSES = ("completed", "detached", "diverged")
+PHASE_FLAGS = ("approach", "preload", "slide")
+SLIP_FLAGS = ("free", "stick", "slip")
 
 CONVENTIONS = "CF-1.10"
 
@@ -90,3 +95,87 @@ def mesh_from_dataset(ds: xr.Dataset) -> Mesh:
 def read_mesh(path: str | Path) -> Mesh:
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return mesh_from_dataset(ds.load())
+
+
+def _flag(meanings, long_name):
+    return {"long_name": long_name, "units": "1", "flag_values": np.arange(len(meanings), dtype=np.int8),
+            "flag_meanings": " ".join(meanings)}
+
+
+def _normalized(long_name: str, si_units: str, si_scale: float) -> dict:
+    """Attributes of a normalized quantity: multiply by si_scale to get si_units."""
+    return {"units": "1", "long_name": long_name, "si_units": si_units, "si_scale": si_scale}
+
+
+def case_dataset(result) -> xr.Dataset:
+    """A :class:`capslide.case.CaseResult` as the case file of DESIGN section 7."""
+    p, recs, mesh = result.params, result.records, result.mesh
+    E, L0 = p.units.E, p.units.L0
+    F, S, L = E * L0, E, L0  # SI scales: force per width (N/m), stress (Pa), length (m)
+    step = lambda name: np.array([getattr(r, name) for r in recs], dtype=float)  # noqa: E731
+    n_pts = len(recs[0].gap) if recs else 0
+    prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
+                                   if recs else np.zeros((0, n_pts), dtype=dt))
+    X_surface = np.einsum("ga,sa->sg", *(_surface_shape(mesh, p))).ravel() if recs else np.zeros(0)
+    data = {
+        "phase": ("step", np.array([PHASE_FLAGS.index(r.phase) for r in recs], dtype=np.int8),
+                  _flag(PHASE_FLAGS, "load phase")),
+        "ubar": ("step", step("ubar"), _normalized("tangential substrate displacement / L0", "m", L)),
+        "h": ("step", step("h"), _normalized("height of the substrate's lower face above the base / L0", "m", L)),
+        "Fn": ("step", step("Fn"), _normalized("normal contact force on the cap / (E L0 W), positive = tensile", "N/m", F)),
+        "Ft": ("step", step("Ft"), _normalized("tangential contact force on the cap / (E L0 W), positive in the sliding direction", "N/m", F)),
+        "area": ("step", step("area"), _normalized(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0, / L0", "m", L)),
+        "area_compressive": ("step", step("area_compressive"), _normalized("current length where Tn >= 0 (compressive), / L0", "m", L)),
+        "area_stick": ("step", step("area_stick"), _normalized("current length of sticking points in contact, / L0", "m", L)),
+        "x_left": ("step", step("x_left"), _normalized("current x of the left (trailing) contact edge / L0", "m", L)),
+        "x_right": ("step", step("x_right"), _normalized("current x of the right (leading) contact edge / L0", "m", L)),
+        "newton_iterations": ("step", step("newton_iterations").astype(np.int32), {"units": "1", "long_name": "Newton iterations of the step"}),
+        "krylov_iterations": ("step", step("krylov_iterations").astype(np.int32), {"units": "1", "long_name": "Krylov iterations of the step"}),
+        "wall_time": ("step", step("wall_time"), {"units": "s", "long_name": "wall time of the step"}),
+        "X_surface": ("surface_point", X_surface, _normalized("reference x of the surface Gauss point / L0", "m", L)),
+        "x_surface": (("step", "surface_point"), prof("x_surface"), _normalized("current x of the surface point / L0", "m", L)),
+        "y_surface": (("step", "surface_point"), prof("y_surface"), _normalized("current y of the surface point / L0", "m", L)),
+        "gap": (("step", "surface_point"), prof("gap"), _normalized("normal gap g_n / L0", "m", L)),
+        "traction_n": (("step", "surface_point"), prof("traction_n"), _normalized("normal traction Tn per reference area / E, positive = repulsive", "Pa", S)),
+        "traction_t": (("step", "surface_point"), prof("traction_t"), _normalized("tangential traction on the cap per reference area / E, positive = +x", "Pa", S)),
+        "slip_state": (("step", "surface_point"), prof("slip_state", np.int8), _flag(SLIP_FLAGS, "friction state of the surface point")),
+    }
+    scal = result.scalars
+    data.update({
+        "peak_Ft": ((), scal["peak_Ft"], _normalized("largest |Ft| while sliding (signed) / (E L0 W)", "N/m", F)),
+        "onset_ubar": ((), scal["onset_ubar"], _normalized("ubar at the onset of full sliding / L0 (NaN: not reached)", "m", L)),
+        "onset_Ft": ((), scal["onset_Ft"], _normalized("Ft at the onset of full sliding / (E L0 W)", "N/m", F)),
+        "onset_area": ((), scal["onset_area"], _normalized("contact area at the onset of full sliding / L0", "m", L)),
+    })
+    snaps = result.snapshots
+    data.update({
+        "snapshot_ubar": ("snapshot", np.array([sn.ubar for sn in snaps], dtype=float), _normalized("ubar of the field snapshot / L0", "m", L)),
+        "X_node": ("node", mesh.nodes[:, 0], _normalized("reference x of the mesh node / L0", "m", L)),
+        "Y_node": ("node", mesh.nodes[:, 1], _normalized("reference y of the mesh node / L0", "m", L)),
+        "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64), {"units": "1", "long_name": "node ids of the cell (element.py order)"}),
+        "u_node": (("snapshot", "node"), np.array([sn.u[:, 0] for sn in snaps]).reshape(len(snaps), mesh.n_nodes),
+                   _normalized("x displacement of the node / L0", "m", L)),
+        "v_node": (("snapshot", "node"), np.array([sn.u[:, 1] for sn in snaps]).reshape(len(snaps), mesh.n_nodes),
+                   _normalized("y displacement of the node / L0", "m", L)),
+        "I1_sigma": (("snapshot", "cell"), np.array([sn.I1_sigma for sn in snaps]).reshape(len(snaps), mesh.n_cells),
+                     _normalized("first invariant of the Cauchy stress (with sigma_zz), cell average / E", "Pa", S)),
+    })
+    ds = xr.Dataset({k: xr.Variable(v[0], v[1], v[2]) for k, v in data.items()})
+    ds.attrs.update(config_attrs(p.config))
+    ds.attrs.update({
+        "status": result.status, "status_reason": result.reason or "none",
+        "status_step": len(recs) - 1, "cutbacks": result.cutbacks,
+        "min_step": float(result.min_step), "case_wall_time": float(result.wall_time),
+        "element": mesh.element, "n_cells": mesh.n_cells, "n_dofs": mesh.n_dofs,
+        "title": "capslide case: soft cap sliding on a rigid substrate",
+    })
+    return ds
+
+
+def _surface_shape(mesh: Mesh, p):
+    """Shape values at the surface Gauss points and the reference x of segment nodes."""
+    from .element import gauss_legendre, line_shape
+
+    s, _ = gauss_legendre(p.mesh.surface_gauss_points)
+    N, _ = line_shape(mesh.surface_segments.shape[1] - 1, s)
+    return N, mesh.nodes[mesh.surface_segments, 0]
