@@ -6,16 +6,22 @@ from snakemake.utils import min_version
 min_version("9.0")
 
 
-configfile: "config/config.yaml"
+DEFAULT_CONFIG = "config/config.yaml"
+
+
+configfile: DEFAULT_CONFIG
 
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/model_figures.smk"
 include: "workflow/rules/meshes.smk"
+include: "workflow/rules/cases.smk"
+include: "workflow/rules/verification.smk"
 
 
 rule all:
     input:
         model_figures=MODEL_FIGURE_FILES,
         cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
+        cases=CASE_FILES,
     default_target: True

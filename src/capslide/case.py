@@ -41,6 +41,7 @@ class CaseResult:
     cutbacks: int = 0
     min_step: float = float("nan")
     wall_time: float = 0.0
+    final_x: np.ndarray | None = None  # last converged [u, h]
 
 
 def run_case(params: Parameters, progress: Callable[[StepRecord], None] | None = None,
@@ -60,4 +61,4 @@ def run_case(params: Parameters, progress: Callable[[StepRecord], None] | None =
 
     res: PathResult = run_load_path(model, progress, wanted, on_snapshot)
     return CaseResult(params, mesh, res.records, res.status, res.reason, sliding_onset(res.records), snapshots,
-                      res.cutbacks, res.min_step, time.perf_counter() - t0)
+                      res.cutbacks, res.min_step, time.perf_counter() - t0, res.x)

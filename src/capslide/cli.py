@@ -78,7 +78,7 @@ def cmd_figure(args) -> int:
     """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
     from . import figures  # matplotlib only when a figure is drawn
 
-    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES}
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES}
     if args.name not in known:
         raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = _check_outputs(args.output, {"pdf", "png", "svg"})
@@ -86,6 +86,10 @@ def cmd_figure(args) -> int:
         if not args.configs:
             raise InputError(f"figure '{args.name}' needs a CONFIG file")
         draw = lambda: figures.MODEL_FIGURES[args.name](_parameters(args))  # noqa: E731
+    elif args.name in figures.TABLE_FIGURES:
+        if not args.tables:
+            raise InputError(f"figure '{args.name}' needs --table FILE.csv")
+        draw = lambda: figures.TABLE_FIGURES[args.name](args.tables)  # noqa: E731
     else:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input MESH.nc")
@@ -172,6 +176,33 @@ def cmd_inspect(args) -> int:
     return 0
 
 
+def cmd_verify(args) -> int:
+    """Sweep a Hertz/JKR verification scene; write the comparison table as CSV."""
+    import csv
+
+    from .verification import sweep
+
+    params = _parameters(args)
+    if not params.config["verification"]["loads"]:
+        raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
+    (output,) = _check_outputs([args.output], {"csv"})
+    rows = sweep(params, args.scene, progress=None if args.quiet else _progress_printer())
+    if not args.quiet and sys.stderr.isatty():
+        sys.stderr.write("\n")
+    output.parent.mkdir(parents=True, exist_ok=True)
+    tmp = output.with_name(f".{output.name}.tmp")
+    with open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["scene", "quantity", "load_P", "fe", "theory", "rel_error", "extra"])
+        for r in rows:
+            w.writerow([r.scene, r.quantity, f"{r.load:.8g}", f"{r.fe:.8g}", f"{r.theory:.8g}", f"{r.rel_error:.6g}",
+                        ";".join(f"{k}={v}" for k, v in r.extra.items())])
+    os.replace(tmp, output)
+    for r in rows:
+        print(f"{r.scene:6s} {r.quantity:20s} P={r.load:+.4f} fe={r.fe:.6g} theory={r.theory:.6g} rel={r.rel_error:+.4f}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="capslide", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
@@ -187,6 +218,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) (model figures)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help="config override")
     p.add_argument("--input", metavar="FILE.nc", help="result file to draw from (cap_setup: a mesh file)")
+    p.add_argument("--table", dest="tables", action="append", default=[], metavar="FILE.csv",
+                   help="table(s) to draw from (verification), repeatable")
     p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="output .pdf/.png (repeatable)")
     p.set_defaults(func=cmd_figure)
 
@@ -195,6 +228,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, metavar="CASE.nc")
     p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
+    _add_config_args(p)
+    p.add_argument("--scene", required=True, help="scene name written into the table (hertz, jkr)")
+    p.add_argument("-o", "--output", required=True, metavar="TABLE.csv")
+    p.add_argument("-q", "--quiet", action="store_true")
+    p.set_defaults(func=cmd_verify)
 
     p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
     p.add_argument("file", metavar="CASE.nc")

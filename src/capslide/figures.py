@@ -27,7 +27,7 @@ from .mesh import Mesh  # noqa: E402
 from .params import Adhesion, Parameters, JKRSphereExperiment, PDMS_SPHERE  # noqa: E402
 
 __all__ = ["MODEL_FIGURES", "MESH_FIGURES", "journal_style", "save", "fig_Tn", "fig_modelCA", "fig_modelAM", "fig_TnTt",
-           "fig_exp_FnJKR", "fig_cap_setup"]
+           "fig_exp_FnJKR", "fig_cap_setup", "fig_verification", "TABLE_FIGURES"]
 
 # Marker colours of the paper's asterisks (its captions name them).
 BLUE, ORANGE, YELLOW, PURPLE, GREEN = "#0072BD", "#D95319", "#EDB120", "#7E2F8E", "#77AC30"
@@ -311,7 +311,48 @@ def fig_cap_setup(mesh: Mesh, p: Parameters):
     return fig
 
 
+def _read_table(paths):
+    import csv
+
+    rows = []
+    for path in paths:
+        with open(path, newline="") as fh:
+            rows += list(csv.DictReader(fh))
+    return rows
+
+
+def fig_verification(tables):
+    """FE half-width against load for the Hertz and JKR scenes, with the closed forms (from the CSV tables)."""
+    rows = _read_table(tables)
+    fig, axes = plt.subplots(1, 2, figsize=(DOUBLE_COLUMN, 2.8))
+    for ax, scene, title in ((axes[0], "hertz", "(a) Hertz (adhesion off)"), (axes[1], "jkr", "(b) JKR (full CGCM law)")):
+        hw = [r for r in rows if r["scene"] == scene and r["quantity"] == "half_width"]
+        if not hw:
+            ax.set_axis_off()
+            continue
+        P = np.array([float(r["load_P"]) for r in hw])
+        a_fe = np.array([float(r["fe"]) for r in hw])
+        a_th = np.array([float(r["theory"]) for r in hw])
+        order = np.argsort(a_th)
+        ax.plot(a_th[order], P[order], "-", color=BLUE, label="closed form")
+        ax.plot(a_fe, P, "o", mfc="none", color=ORANGE, label="finite elements")
+        po = [r for r in rows if r["scene"] == scene and r["quantity"] == "pull_off"]
+        for r in po:
+            ax.axhline(float(r["theory"]), color="0.5", ls=":", lw=0.8)
+            ax.axhline(float(r["fe"]), color=ORANGE, ls="--", lw=0.8)
+            ax.text(0.02, float(r["theory"]), " pull-off: closed form (dotted), FE (dashed)", fontsize=6, va="bottom",
+                    transform=ax.get_yaxis_transform())
+        err = np.max(np.abs([float(r["rel_error"]) for r in hw]))
+        ax.set(xlabel=r"contact half-width $a\,/\,L_0$", ylabel=r"load $P = -F_\mathrm{n}\,/\,(E L_0 W)$",
+               title=f"{title}: max |error| {100 * err:.2f}%")
+        ax.axhline(0.0, color="k", lw=0.4)
+        ax.legend(loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
 MESH_FIGURES: dict[str, Callable] = {"cap_setup": fig_cap_setup}
+TABLE_FIGURES: dict[str, Callable] = {"verification": fig_verification}
 
 MODEL_FIGURES: dict[str, Callable] = {
     "Tn": fig_Tn,

@@ -17,6 +17,7 @@ from typing import Callable
 
 import numpy as np
 
+from . import contact
 from .interface import STICK, interval_measures
 from .mesh import H0_AT_SIZE_1
 from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
@@ -69,11 +70,13 @@ def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its:
     u, h = model.split(x)
     g, xs = model.contact.gaps(u, h)
     Tn, _ = model.contact.traction(g)
+    a = model.params.adhesion
+    Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
     _, Fn, Ft = model.contact.force(u, h, ubar)
     Tt, state = model.contact.tangential_state(u, h, ubar)
     pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
     area, xl, xr = interval_measures(pts, gg - model.params.contact.area_gap)
-    area_c, _, _ = interval_measures(pts, -tn)
+    area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
     area_s, _, _ = interval_measures(pts, np.where(st == STICK, -1.0, 1.0))
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy())
@@ -169,8 +172,8 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
     records: list[StepRecord] = []
     x = np.zeros(model.n_dofs + 1)
     x[-1] = p.geometry.H + L.approach_start_gap
-    # 1. approach: apex gap from the start gap down to the equilibrium distance
-    res = continuation(model, x, FixedApexGap, L.approach_start_gap, a.g_eq, L.approach_step, "approach", records,
+    # 1. approach: apex gap from the start gap down to the end gap (default g_eq)
+    res = continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach", records,
                        min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress)
     if res.status != "completed":
         return res
@@ -185,8 +188,10 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
         return "detached" if rec.area < min_area else None
 
     for target in targets:
+        retracting = target > records[-1].Fn  # only a retraction can pull the contact off
         res = continuation(model, x, FixedForce, records[-1].Fn, target, L.force_step, "preload", records,
-                           min_step=L.min_force_step, max_step=L.force_step, progress=progress, stop=detached)
+                           min_step=L.min_force_step, max_step=L.force_step, progress=progress,
+                           stop=detached if retracting else None)
         cut += res.cutbacks
         smallest = min(smallest, res.min_step)
         if res.status == "diverged" and target > records[-1].Fn and target > 0:

@@ -156,6 +156,7 @@ class Loading:
     preload: float  # Fn* (E L0 W), positive = tensile
     ubar_max: float  # L0
     approach_start_gap: float  # L0
+    approach_end_gap: float  # L0
     approach_step: float  # L0
     force_step: float  # E L0
     min_force_step: float  # E L0
@@ -231,6 +232,7 @@ class Parameters:
             loading=Loading(
                 preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),
                 approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
+                approach_end_gap=load["approach_end_gap_over_g_eq"] * c["g_eq"],
                 approach_step=load["approach_step_over_r0"] * c["r0"],
                 force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
                 retract_from=float(load["retract_from"]),

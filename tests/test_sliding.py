@@ -1,0 +1,107 @@
+"""Sliding under a fixed normal force: full-sliding forces, uniform block, mirror symmetry."""
+
+import numpy as np
+import pytest
+
+from capslide import contact
+from capslide.case import run_case
+from capslide.config import apply_overrides, validate
+from capslide.interface import SLIP, STICK
+from capslide.mesh import rectangle_mesh
+from capslide.params import Parameters
+
+COARSE = ["mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
+
+
+def params_with(paper_config, *overrides):
+    return Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *overrides])))
+
+
+def surface_integral(p, mesh, x, fn):
+    """Integral over the reference surface of fn(gap, J_s, Tn) at the state x, with the case's quadrature."""
+    from capslide.interface import SurfaceContact
+
+    c = SurfaceContact(mesh, p.adhesion, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
+    u, h = x[:-1], x[-1]
+    xs, t = c.quad.current(u)
+    g = h - xs[..., 1]
+    J = np.linalg.norm(t, axis=-1) / c._ref_len
+    Tn, _ = contact.normal_traction(g, p.adhesion.T0, p.adhesion.r0, p.adhesion.g_reg)
+    Tn = np.where(g < p.contact.far_gap, Tn, 0.0)
+    return float(np.sum(fn(g, J, Tn) * c.quad.weight))
+
+
+@pytest.fixture(scope="module")
+def di_case(paper_config):
+    p = params_with(paper_config, "friction.model=DI")
+    return p, run_case(p)
+
+
+def test_di_full_sliding_force(di_case):
+    p, res = di_case
+    assert res.status == "completed", res.reason
+    last = res.records[-1]
+    assert np.all(last.slip_state != STICK)
+    f = p.friction
+    Ft_theory = surface_integral(p, res.mesh, res.final_x,
+                                 lambda g, J, Tn: J * contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)[0])
+    assert last.Ft == pytest.approx(Ft_theory, rel=1e-6)
+    # DI: Ft = tau_DI x contact area, up to the logistic edge
+    ratio = last.Ft / (f.tau_DI * last.area)
+    print("DI Ft / (tau A) =", ratio)
+    assert abs(ratio - 1.0) < 0.02
+    # after the onset, force and area stay constant
+    onset = res.scalars["onset_ubar"]
+    after = [r for r in res.records if r.phase == "slide" and r.ubar >= onset]
+    assert len(after) >= 2
+    assert np.ptp([r.Ft for r in after]) <= 0.01 * abs(last.Ft)
+    assert np.ptp([r.area for r in after]) <= 0.01 * last.area
+
+
+def test_ea_coulomb_full_sliding_force(paper_config):
+    p = params_with(paper_config, "friction.model=EA", "friction.s_cut=0")
+    res = run_case(p)
+    assert res.status == "completed", res.reason
+    last = res.records[-1]
+    assert np.isfinite(res.scalars["onset_ubar"])
+    Ft_theory = surface_integral(p, res.mesh, res.final_x, lambda g, J, Tn: p.friction.mu_EA * np.maximum(Tn, 0.0))
+    assert last.Ft == pytest.approx(Ft_theory, rel=1e-6)
+
+
+def test_mirror_symmetry(paper_config, di_case):
+    p, res = di_case
+    pm = params_with(paper_config, "friction.model=DI", "loading.ubar_max=-2.6")
+    resm = run_case(pm)
+    slide = [r for r in res.records if r.phase == "slide"]
+    slidem = [r for r in resm.records if r.phase == "slide"]
+    assert len(slide) == len(slidem)
+    np.testing.assert_allclose([r.ubar for r in slidem], [-r.ubar for r in slide], atol=1e-12)
+    scale = max(abs(r.Ft) for r in slide)
+    np.testing.assert_allclose([r.Ft for r in slidem], [-r.Ft for r in slide], atol=1e-7 * scale)
+    np.testing.assert_allclose([r.x_left for r in slidem], [-r.x_right for r in slide], atol=1e-7)
+
+
+@pytest.mark.parametrize("model_name, s_cut", [("DI", 1.0), ("EA", 0.0), ("EA", 0.5), ("EA", 1.0)])
+def test_flat_block_uniform_sliding(paper_config, model_name, s_cut):
+    """A flat-topped block pressed and slid: at full sliding T_t equals the threshold at the computed gap."""
+    p = params_with(paper_config, f"friction.model={model_name}", f"friction.s_cut={s_cut}", "loading.preload=-0.5",
+                    "loading.ubar_max=2.0")
+    mesh = rectangle_mesh(20, 4, 10.0, 2.0, "Q1")
+    res = run_case(p, mesh=mesh)
+    assert res.status == "completed", res.reason
+    last = res.records[-1]
+    # the middle half of the face, away from the free edges of the block: a nearly uniform state
+    inside = (np.abs(last.x_surface) < 2.5) & (last.gap < p.adhesion.g_max)
+    assert inside.sum() > 30 and np.all(last.slip_state[inside] == SLIP)
+    g = last.gap[inside]
+    f, a = p.friction, p.adhesion
+    if model_name == "DI":
+        from capslide.interface import SurfaceContact
+
+        c = SurfaceContact(mesh, a, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
+        _, t = c.quad.current(res.final_x[:-1])
+        J = (np.linalg.norm(t, axis=-1) / c._ref_len).ravel()[inside]
+        expected = J * contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)[0]
+    else:
+        expected = contact.ea_threshold(g, f.mu_EA, f.g_cut_EA, a.T0, a.r0, a.g_reg)[0]
+    np.testing.assert_allclose(last.traction_t[inside], expected, rtol=0, atol=1e-8)

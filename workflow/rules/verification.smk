@@ -1,0 +1,48 @@
+# snakemake --cores 2 verification: Hertz and JKR scenes against the closed forms.
+VERIFICATION_SCENES = ["hertz", "jkr"]
+
+
+rule verification:
+    input:
+        "results/verification/verification.pdf",
+        "results/verification/verification.png",
+        expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
+
+
+rule verify_scene:
+    input:
+        "config/scenes/{scene}.yaml",
+    output:
+        "results/verification/{scene}.csv",
+    wildcard_constraints:
+        scene="|".join(VERIFICATION_SCENES),
+    log:
+        "logs/verification/{scene}.log",
+    benchmark:
+        "results/benchmarks/verification/{scene}.tsv"
+    threads: 1
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " verify {input} --scene {wildcards.scene} -q -o {output} > {log} 2>&1"
+
+
+rule verification_figure:
+    input:
+        expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
+    output:
+        pdf="results/verification/verification.pdf",
+        png="results/verification/verification.png",
+    params:
+        tables=lambda wildcards, input: " ".join(f"--table {t}" for t in input),
+    log:
+        "logs/verification/figure.log",
+    benchmark:
+        "results/benchmarks/verification/figure.tsv"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " figure verification {params.tables} -o {output.pdf} -o {output.png} > {log} 2>&1"
