@@ -105,3 +105,18 @@ def test_flat_block_uniform_sliding(paper_config, model_name, s_cut):
     else:
         expected = contact.ea_threshold(g, f.mu_EA, f.g_cut_EA, a.T0, a.r0, a.g_reg)[0]
     np.testing.assert_allclose(last.traction_t[inside], expected, rtol=0, atol=1e-8)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("overrides", [["friction.model=DI"], ["friction.model=EA", "friction.s_cut=0", "loading.preload=-0.288"]])
+def test_step_and_penalty_sensitivity_below_one_percent(paper_config, overrides):
+    base = params_with(paper_config, *overrides)
+    L, f = base.loading, base.friction
+    ref = run_case(base).scalars
+    halved = run_case(params_with(paper_config, *overrides, f"loading.slide_step={L.slide_step / 2}",
+                                  f"loading.max_slide_step={L.max_slide_step / 2}",
+                                  f"loading.min_slide_step={L.min_slide_step / 2}")).scalars
+    stiffer = run_case(params_with(paper_config, *overrides, f"friction.eps_t={2 * f.eps_t}")).scalars
+    for other in (halved, stiffer):
+        assert other["peak_Ft"] == pytest.approx(ref["peak_Ft"], rel=0.01)
+        assert other["onset_ubar"] == pytest.approx(ref["onset_ubar"], rel=0.01)

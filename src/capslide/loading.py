@@ -102,13 +102,15 @@ def continuation(
     stop: Callable[[StepRecord], str | None] | None = None,
     breakpoints: tuple[float, ...] = (),
     on_breakpoint: Callable[[float, np.ndarray], None] | None = None,
+    step_limit: Callable[[list[StepRecord], float], float] | None = None,
 ) -> PathResult:
     """Adaptive continuation of the load parameter from ``start`` to ``end``.
 
     ``constraint(value)`` builds the model constraint for a parameter value.
     ``stop(record)`` may end the phase early with a status ("detached").
     Steps end exactly on every value in ``breakpoints``, where
-    ``on_breakpoint(value, x)`` is called.
+    ``on_breakpoint(value, x)`` is called. ``step_limit(records, value)``
+    may cap the next step.
     """
     direction = 1.0 if end >= start else -1.0
     value, step = start, min(abs(first_step), max_step)
@@ -120,6 +122,8 @@ def continuation(
                      key=lambda b: direction * b)
     while direction * (end - value) > tol:
         step = min(step, abs(end - value))
+        if step_limit is not None:
+            step = max(min(step, step_limit(records, value)), min_step)
         if pending:
             step = min(step, abs(pending[0] - value))
         target = value + direction * step
@@ -221,7 +225,27 @@ def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=No
         on_snapshot(0.0, x)
     return continuation(model, x, lambda ubar: SlideAtForce(ubar, Fn), 0.0, L.ubar_max, L.slide_step, "slide",
                         records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
-                        stop=detached, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot)
+                        stop=detached, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot,
+                        step_limit=onset_step_limit)
+
+
+def onset_step_limit(records: list[StepRecord], ubar: float, tolerance: float = 0.005) -> float:
+    """Largest next slide step while the stick zone closes: the onset of full sliding is then found to
+    about ``tolerance`` |ubar|, whatever the step size elsewhere.
+
+    The onset is predicted by extrapolating the stick area of the last two
+    slide steps linearly to zero; the step is at most half the predicted
+    remaining distance, and at least ``tolerance`` |ubar|.
+    """
+    last = [r for r in records[-2:] if r.phase == "slide"]
+    if len(last) < 2 or last[-1].area_stick <= 0.0:
+        return math.inf
+    (u0, a0), (u1, a1) = [(r.ubar, r.area_stick) for r in last]
+    if a1 >= a0 or u1 == u0:
+        return math.inf
+    u_onset = u1 + a1 * (u1 - u0) / (a0 - a1)
+    # approach the predicted onset in halving steps: the stick zone shrinks faster than linearly at the end
+    return max(0.5 * abs(u_onset - ubar), tolerance * abs(ubar))
 
 
 def run_load_path(model: CapModel, progress=None, snapshot_ubar=(), on_snapshot=None) -> PathResult:
