@@ -120,3 +120,12 @@ def test_step_and_penalty_sensitivity_below_one_percent(paper_config, overrides)
     for other in (halved, stiffer):
         assert other["peak_Ft"] == pytest.approx(ref["peak_Ft"], rel=0.01)
         assert other["onset_ubar"] == pytest.approx(ref["onset_ubar"], rel=0.01)
+
+
+def test_force_balance_at_every_step(di_case):
+    """The contact force on the cap equals minus the internal force at the clamped base, at every converged step."""
+    p, res = di_case
+    assert len(res.records) > 20
+    for rec in res.records:
+        assert rec.Fn + rec.reaction[1] == pytest.approx(0.0, abs=1e-8), rec.phase
+        assert rec.Ft + rec.reaction[0] == pytest.approx(0.0, abs=1e-8), rec.phase

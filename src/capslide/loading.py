@@ -52,6 +52,7 @@ class StepRecord:
     traction_n: np.ndarray = field(repr=False)
     traction_t: np.ndarray = field(repr=False)
     slip_state: np.ndarray = field(repr=False)
+    reaction: np.ndarray = field(default_factory=lambda: np.zeros(2), repr=False)  # internal force at the clamped base
 
 
 @dataclass
@@ -79,7 +80,8 @@ def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its:
     area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
     area_s, _, _ = interval_measures(pts, np.where(st == STICK, -1.0, 1.0))
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
-                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy())
+                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
+                      model.base_reaction(x))
 
 
 def _newton_options(model: CapModel) -> NewtonOptions:
