@@ -61,6 +61,21 @@ def hertz_line_pressure(x, P: float, R: float, E_star: float):
     return 2.0 * P / (math.pi * a**2) * np.sqrt(np.clip(a**2 - x**2, 0.0, None))
 
 
+def _jkr_root(load, P: float, a_c: float, hertz_guess: float, branch: str) -> float:
+    """Contact size where load(a) = P on the stable (a >= a_c) or unstable (a < a_c) JKR branch."""
+    P_c = load(a_c)
+    if P < P_c:
+        raise ValueError(f"load {P} is below the JKR pull-off load {P_c}")
+    f = lambda a: load(a) - P  # noqa: E731
+    if branch == "stable":
+        return a_c if P == P_c else _bracketed_root(f, a_c, max(2.0 * a_c, hertz_guess, 1e-300))
+    if branch == "unstable":
+        if P >= 0.0:
+            raise ValueError("the unstable JKR branch exists only for tensile loads (P < 0)")
+        return a_c if P == P_c else brentq(f, 0.0, a_c, xtol=1e-16 * a_c, rtol=1e-14, maxiter=500)
+    raise ValueError(f"branch must be 'stable' or 'unstable', not {branch!r}")
+
+
 # --- JKR cylinder (2D, plane strain) --------------------------------------
 def jkr_cylinder_load(a, R: float, E_star: float, w: float):
     """JKR load per unit length at half-width a for a cylinder on a flat.
@@ -105,19 +120,9 @@ def jkr_cylinder_half_width(P: float, R: float, E_star: float, w: float, branch:
     control); ``'unstable'`` the root 0 < a < a_c, which exists only for
     pull-off <= P < 0. Raises ValueError below the pull-off load.
     """
-    a_c = jkr_cylinder_critical_half_width(R, E_star, w)
-    P_c = jkr_cylinder_pull_off(R, E_star, w)
-    if P < P_c:
-        raise ValueError(f"load {P} is below the JKR pull-off load {P_c}")
-    f = lambda a: float(jkr_cylinder_load(a, R, E_star, w)) - P  # noqa: E731
-    if branch == "stable":
-        hertz = float(hertz_line_half_width(abs(P), R, E_star))
-        return a_c if P == P_c else _bracketed_root(f, a_c, max(2.0 * a_c, hertz, 1e-300))
-    if branch == "unstable":
-        if P >= 0.0:
-            raise ValueError("the unstable JKR branch exists only for tensile loads (P < 0)")
-        return a_c if P == P_c else brentq(f, 0.0, a_c, xtol=1e-16 * a_c, rtol=1e-14, maxiter=500)
-    raise ValueError(f"branch must be 'stable' or 'unstable', not {branch!r}")
+    load = lambda a: float(jkr_cylinder_load(a, R, E_star, w))  # noqa: E731
+    hertz = float(hertz_line_half_width(abs(P), R, E_star))
+    return _jkr_root(load, P, jkr_cylinder_critical_half_width(R, E_star, w), hertz, branch)
 
 
 def maugis_parameter_cylinder(R: float, E_star: float, w: float, sigma0: float) -> float:
@@ -152,16 +157,6 @@ def jkr_sphere_pull_off(R: float, E_star: float, w: float) -> float:
 
 def jkr_sphere_radius(P: float, R: float, E_star: float, w: float, branch: str = "stable") -> float:
     """Contact radius at load P (inverse of :func:`jkr_sphere_load`), as for the cylinder."""
-    a_c = jkr_sphere_critical_radius(R, E_star, w)
-    P_c = jkr_sphere_pull_off(R, E_star, w)
-    if P < P_c:
-        raise ValueError(f"load {P} is below the JKR pull-off load {P_c}")
-    f = lambda a: float(jkr_sphere_load(a, R, E_star, w)) - P  # noqa: E731
-    if branch == "stable":
-        hertz = (3.0 * abs(P) * R / (4.0 * E_star)) ** (1.0 / 3.0)
-        return a_c if P == P_c else _bracketed_root(f, a_c, max(2.0 * a_c, hertz, 1e-300))
-    if branch == "unstable":
-        if P >= 0.0:
-            raise ValueError("the unstable JKR branch exists only for tensile loads (P < 0)")
-        return a_c if P == P_c else brentq(f, 0.0, a_c, xtol=1e-16 * a_c, rtol=1e-14, maxiter=500)
-    raise ValueError(f"branch must be 'stable' or 'unstable', not {branch!r}")
+    load = lambda a: float(jkr_sphere_load(a, R, E_star, w))  # noqa: E731
+    hertz = (3.0 * abs(P) * R / (4.0 * E_star)) ** (1.0 / 3.0)
+    return _jkr_root(load, P, jkr_sphere_critical_radius(R, E_star, w), hertz, branch)

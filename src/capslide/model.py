@@ -66,7 +66,6 @@ class _BorderedSolve:
         if schur == 0.0 or not np.isfinite(schur):
             raise np.linalg.LinAlgError("singular bordered system (Schur complement zero)")
         dh = (G - self.d @ z1) / schur
-        self.schur = schur
         return np.concatenate([z1 - z2 * dh, [dh]])
 
 
