@@ -264,7 +264,7 @@ def fig_exp_FnJKR(p: Parameters | None = None, e: JKRSphereExperiment = PDMS_SPH
         ax.axvline(0.0, color="k", lw=0.4)
         ax.set(xlabel=r"initial normal force $F^0_\mathrm{n}$ (mN), tensile $> 0$", ylabel=ylabel,
                title=f"({letter})", ylim=(0, scale(e.area_max_mm2) * 1.02))
-    axes[0].legend(loc="upper right")
+    axes[0].legend(loc="lower left")
     fig.tight_layout()
     return fig
 
