@@ -17,6 +17,7 @@ include: "workflow/rules/model_figures.smk"
 include: "workflow/rules/meshes.smk"
 include: "workflow/rules/cases.smk"
 include: "workflow/rules/verification.smk"
+include: "workflow/rules/collect.smk"
 
 
 rule all:
@@ -24,4 +25,5 @@ rule all:
         model_figures=MODEL_FIGURE_FILES,
         cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
         cases=CASE_FILES,
+        collected="results/cases.nc",
     default_target: True

@@ -43,3 +43,43 @@ def test_mesh_cli_and_figure(tmp_path):
     assert not (tmp_path / "bad.nc").exists()
     res = run("figure", "cap_setup", "-o", tmp_path / "x.png")
     assert res.returncode == 2 and "--input" in res.stderr
+
+
+def test_case_files_and_collect(tmp_path, paper_config):
+    import warnings
+
+    from capslide.case import run_case
+    from capslide.config import apply_overrides, validate
+    from capslide.params import Parameters
+    from capslide.results import case_dataset, collect
+
+    paths = []
+    for sets in (["friction.model=DI", "loading.ubar_max=0.3"], ["friction.model=EA", "friction.s_cut=0", "loading.ubar_max=0.6",
+                                                                   "loading.preload=-0.1"]):
+        cfg = validate(apply_overrides(paper_config, ["mesh.size=32", "output.snapshot_ubar=[0, 0.3]", *sets]))
+        res = run_case(Parameters.from_config(cfg))
+        paths.append(write_netcdf(case_dataset(res), tmp_path / f"{len(paths)}.nc"))
+    out = write_netcdf(collect(paths), tmp_path / "cases.nc")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for path in [*paths, out]:
+            with xr.open_dataset(path) as ds:
+                for name, var in ds.variables.items():
+                    assert "units" in var.attrs and "long_name" in var.attrs, (path, name)
+                for name in ("phase", "slip_state", "status"):
+                    if name in ds:
+                        assert "flag_values" in ds[name].attrs and "flag_meanings" in ds[name].attrs
+                assert ds.attrs["Conventions"].startswith("CF-") and "software_version" in ds.attrs
+                assert "config_yaml" in ds.attrs
+    with xr.open_dataset(paths[0]) as c0, xr.open_dataset(out) as ds:
+        assert c0.attrs["status"] == "completed"
+        np.testing.assert_allclose(c0["snapshot_ubar"], [0.0, 0.3])
+        assert c0["u_node"].shape == (2, c0.sizes["node"]) and c0["I1_sigma"].shape == (2, c0.sizes["cell"])
+        assert ds.sizes["case"] == 2
+        assert list(ds["model"].values) == ["DI", "EA"] and np.isnan(ds["s_cut"][0]) and ds["s_cut"][1] == 0
+        np.testing.assert_allclose(ds["preload"], [0.0, -0.1])
+        n0 = int(ds["n_steps"][0])
+        np.testing.assert_allclose(ds["Ft"][0, :n0], c0["Ft"])
+        if n0 < ds.sizes["step"]:
+            assert np.isnan(ds["Ft"][0, n0:]).all()  # padded
+        assert list(ds["status"].values) == [0, 0]

@@ -151,6 +151,23 @@ def cmd_run(args) -> int:
     return EXIT_STATUS[result.status]
 
 
+def cmd_collect(args) -> int:
+    """Stack case files into one dataset over a case dimension."""
+    from .results import collect, write_netcdf
+
+    (output,) = _check_outputs([args.output], {"nc"})
+    missing = [f for f in args.files if not Path(f).is_file()]
+    if missing:
+        raise InputError(f"case file '{missing[0]}' does not exist")
+    try:
+        ds = collect(args.files)
+    except (OSError, ValueError, KeyError) as err:
+        raise InputError(f"cannot collect the case files: {err}") from None
+    write_netcdf(ds, output)
+    print(f"{output}: {ds.sizes['case']} cases, up to {ds.sizes['step']} steps")
+    return 0
+
+
 def cmd_inspect(args) -> int:
     """Print parameters, status and case scalars of a case file as a table."""
     import xarray as xr
@@ -235,6 +252,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, metavar="TABLE.csv")
     p.add_argument("-q", "--quiet", action="store_true")
     p.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser("collect", help="stack case files into one dataset over a case dimension")
+    p.add_argument("files", nargs="+", metavar="CASE.nc")
+    p.add_argument("-o", "--output", required=True, metavar="CASES.nc")
+    p.set_defaults(func=cmd_collect)
 
     p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
     p.add_argument("file", metavar="CASE.nc")

@@ -21,7 +21,7 @@ from .config import flatten
 from .mesh import Mesh
 
 __all__ = ["CONVENTIONS", "STATUSES", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset", "read_mesh",
-           "case_dataset"]
+           "case_dataset", "collect"]
 
 STATUSES = ("completed", "detached", "diverged")
 PHASE_FLAGS = ("approach", "preload", "slide")
@@ -179,3 +179,60 @@ def _surface_shape(mesh: Mesh, p):
     s, _ = gauss_legendre(p.mesh.surface_gauss_points)
     N, _ = line_shape(mesh.surface_segments.shape[1] - 1, s)
     return N, mesh.nodes[mesh.surface_segments, 0]
+
+
+STEP_VARIABLES = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
+                  "newton_iterations", "krylov_iterations", "wall_time")
+CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
+
+
+def collect(paths) -> xr.Dataset:
+    """Stack case files over a ``case`` dimension (coordinates model, s_cut, preload).
+
+    Step variables are padded to the longest case (NaN; integers and flags
+    with -1 as _FillValue); per-case scalars and the status become
+    variables over ``case``. Surface profiles and field snapshots stay in
+    the case files.
+    """
+    cases = []
+    for path in paths:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            cases.append(ds[list(STEP_VARIABLES) + list(CASE_SCALARS)].load().assign_attrs(ds.attrs))
+    n_steps = max(c.sizes["step"] for c in cases)
+    data: dict[str, tuple] = {}
+    for name in STEP_VARIABLES:
+        first = cases[0][name]
+        integer = np.issubdtype(first.dtype, np.integer)
+        fill = -1 if integer else np.nan
+        arr = np.full((len(cases), n_steps), fill, dtype=first.dtype if integer else float)
+        for i, c in enumerate(cases):
+            arr[i, : c.sizes["step"]] = c[name].values
+        attrs = dict(first.attrs)
+        data[name] = (("case", "step"), arr, attrs)
+    for name in CASE_SCALARS:
+        data[name] = ("case", np.array([float(c[name]) for c in cases]), dict(cases[0][name].attrs))
+    status = np.array([STATUSES.index(c.attrs.get("status", "diverged")) for c in cases], dtype=np.int8)
+    data["status"] = ("case", status, _flag(STATUSES, "final status of the case"))
+    data["n_steps"] = ("case", np.array([c.sizes["step"] for c in cases], dtype=np.int32),
+                       {"units": "1", "long_name": "number of converged steps of the case"})
+    model = [str(c.attrs["friction.model"]) for c in cases]
+    s_cut = [float(c.attrs["friction.s_cut"]) if m == "EA" else np.nan for c, m in zip(cases, model)]
+    coords = {
+        "model": ("case", np.array(model, dtype=object), {"long_name": "friction model (DI, EA, none)", "units": "1"}),
+        "s_cut": ("case", np.array(s_cut), {"long_name": "EA cut-off parameter s_cut (NaN for DI)", "units": "1"}),
+        "preload": ("case", np.array([float(c.attrs["loading.preload"]) for c in cases]),
+                    _normalized("target normal force Fn* / (E L0 W), positive = tensile", "N/m",
+                                float(cases[0].attrs["material.E"]) * float(cases[0].attrs["geometry.L0"]))),
+        "case_file": ("case", np.array([str(p) for p in paths], dtype=object), {"long_name": "source case file", "units": "1"}),
+    }
+    out = xr.Dataset({k: xr.Variable(*v) for k, v in data.items()}, coords={k: xr.Variable(*v) for k, v in coords.items()})
+    common = {k: v for k, v in cases[0].attrs.items()
+              if all(k in c.attrs and np.array_equal(np.asarray(c.attrs[k]), np.asarray(v)) for c in cases)}
+    out.attrs.update({k: v for k, v in common.items() if not k.startswith(("status", "case_wall", "cutbacks", "min_step"))})
+    out.attrs.update({"Conventions": CONVENTIONS, "software_version": __version__,
+                      "config_yaml": cases[0].attrs.get("config_yaml", ""),
+                      "title": "capslide: all cases of a study", "n_cases": len(cases)})
+    for name in STEP_VARIABLES:
+        if np.issubdtype(out[name].dtype, np.integer):
+            out[name].encoding["_FillValue"] = -1
+    return out
