@@ -18,6 +18,7 @@ include: "workflow/rules/meshes.smk"
 include: "workflow/rules/cases.smk"
 include: "workflow/rules/verification.smk"
 include: "workflow/rules/collect.smk"
+include: "workflow/rules/cap_figures.smk"
 
 
 rule all:
@@ -26,4 +27,5 @@ rule all:
         cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
         cases=CASE_FILES,
         collected="results/cases.nc",
+        cap_figures=CAP_FIGURE_FILES,
     default_target: True

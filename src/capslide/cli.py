@@ -78,7 +78,7 @@ def cmd_figure(args) -> int:
     """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
     from . import figures  # matplotlib only when a figure is drawn
 
-    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES}
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES}
     if args.name not in known:
         raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = _check_outputs(args.output, {"pdf", "png", "svg"})
@@ -86,6 +86,18 @@ def cmd_figure(args) -> int:
         if not args.configs:
             raise InputError(f"figure '{args.name}' needs a CONFIG file")
         draw = lambda: figures.MODEL_FIGURES[args.name](_parameters(args))  # noqa: E731
+    elif args.name in figures.CASES_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
+        import xarray as xr
+
+        try:
+            cases = xr.open_dataset(args.input, engine="netcdf4").load()
+        except (OSError, ValueError) as err:
+            raise InputError(f"cannot read netCDF file '{args.input}': {err}") from None
+        tau = float(cases.attrs["friction.mu_DI"]) * float(cases.attrs["adhesion.T_max"]) / float(cases.attrs["material.E"])
+        kwargs = {"tau_DI": tau} if args.name == "cap_PxOverAc" else {}
+        draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
         if not args.tables:
             raise InputError(f"figure '{args.name}' needs --table FILE.csv")

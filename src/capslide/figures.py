@@ -27,7 +27,8 @@ from .mesh import Mesh  # noqa: E402
 from .params import Adhesion, Parameters, JKRSphereExperiment, PDMS_SPHERE  # noqa: E402
 
 __all__ = ["MODEL_FIGURES", "MESH_FIGURES", "journal_style", "save", "fig_Tn", "fig_modelCA", "fig_modelAM", "fig_TnTt",
-           "fig_exp_FnJKR", "fig_cap_setup", "fig_verification", "TABLE_FIGURES"]
+           "fig_exp_FnJKR", "fig_cap_setup", "fig_verification", "TABLE_FIGURES", "CASES_FIGURES", "fig_cap_PxAndAc",
+           "fig_cap_PxOverAc"]
 
 # Marker colours of the paper's asterisks (its captions name them).
 BLUE, ORANGE, YELLOW, PURPLE, GREEN = "#0072BD", "#D95319", "#EDB120", "#7E2F8E", "#77AC30"
@@ -351,7 +352,79 @@ def fig_verification(tables):
     return fig
 
 
+MODEL_STYLE = {("DI", None): (BLUE, "-", r"DI, $g_\mathrm{cut} = g_\mathrm{max}$"),
+               ("EA", 1.0): (ORANGE, "--", r"EA, $s_\mathrm{cut} = 1$"),
+               ("EA", 0.0): (PURPLE, "-.", r"EA, $s_\mathrm{cut} = 0$ (Coulomb)")}
+
+
+def _case_style(model: str, s_cut: float):
+    key = (model, None if model != "EA" else float(s_cut))
+    return MODEL_STYLE.get(key, ("0.3", ":", f"{model}, s_cut = {s_cut:g}" if model == "EA" else model))
+
+
+def _slide_curve(ds, i):
+    n = int(ds["n_steps"][i])
+    phase = ds["phase"][i, :n].values
+    sel = np.flatnonzero(phase == 2)
+    return {k: ds[k][i, :n].values[sel] for k in ("ubar", "Ft", "area")}
+
+
+def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
+    """f:cap:PxAndAc: Ft and contact area against ubar, one row per preload, the models per panel."""
+    preloads = sorted(set(np.round(cases["preload"].values, 6)))
+    fig, axes = plt.subplots(len(preloads), 2, figsize=(DOUBLE_COLUMN, 2.0 * len(preloads) + 0.4), squeeze=False)
+    for row, F in zip(axes, preloads):
+        for i in np.flatnonzero(np.isclose(cases["preload"].values, F)):
+            col, ls, label = _case_style(str(cases["model"][i].values), float(cases["s_cut"][i]))
+            c = _slide_curve(cases, i)
+            for ax, key in zip(row, ("Ft", "area")):
+                ax.plot(c["ubar"], c[key], ls, color=col, label=label)
+                onset = float(cases["onset_ubar"][i])
+                if np.isfinite(onset):
+                    ax.plot(onset, np.interp(onset, c["ubar"], c[key]), "s", color=col, ms=4, mfc="white")
+                if str(cases["model"][i].values) == "DI" and abs(F) < 1e-9:
+                    su = [u for u in snapshot_ubar if u <= c["ubar"].max()]
+                    ax.plot(su, np.interp(su, c["ubar"], c[key]), "o", color=col, ms=2.5)
+        kind = "compression" if F < 0 else ("tension" if F > 0 else "zero load")
+        row[0].set(ylabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", title=fr"friction force, {kind}, $F_\mathrm{{n}}^* = {F:g}$")
+        row[1].set(ylabel=r"contact area $A\,/\,L_0$", title=fr"contact area, {kind}, $F_\mathrm{{n}}^* = {F:g}$")
+    for ax in axes[-1]:
+        ax.set_xlabel(r"tangential displacement $\bar{u}\,/\,L_0$")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, 0.0))
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    return fig
+
+
+def fig_cap_PxOverAc(cases, tau_DI: float | None = None):
+    """f:cap:PxOverAc: contact area against Ft up to the onset of full sliding, all preloads and models."""
+    fig, ax = plt.subplots(figsize=(SINGLE_COLUMN, 2.8))
+    preloads = sorted(set(np.round(cases["preload"].values, 6)))
+    shades = dict(zip(preloads, np.linspace(1.0, 0.45, max(len(preloads), 1))))
+    seen = set()
+    for i in range(cases.sizes["case"]):
+        model, s_cut = str(cases["model"][i].values), float(cases["s_cut"][i])
+        col, ls, label = _case_style(model, s_cut)
+        c = _slide_curve(cases, i)
+        onset = float(cases["onset_ubar"][i])
+        keep = c["ubar"] <= (onset if np.isfinite(onset) else np.inf)
+        alpha = shades[round(float(cases["preload"][i]), 6)]
+        ax.plot(c["Ft"][keep], c["area"][keep], ls, color=col, alpha=alpha, label=None if label in seen else label)
+        seen.add(label)
+        if np.isfinite(onset):
+            ax.plot(float(cases["onset_Ft"][i]), float(cases["onset_area"][i]), "s", color=col, ms=3.5, mfc="white")
+    if tau_DI:
+        A = np.linspace(0, ax.get_ylim()[1], 10)
+        ax.plot(tau_DI * A, A, ":", color="k", lw=0.8, label=r"$F_\mathrm{t} = \tau_\mathrm{DI} A$")
+    ax.set(xlabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", ylabel=r"contact area $A\,/\,L_0$", xlim=(0, None), ylim=(0, None),
+           title=f"up to full sliding, preloads {', '.join(f'{F:g}' for F in preloads)}")
+    ax.legend(loc="lower right", fontsize=6)
+    fig.tight_layout()
+    return fig
+
+
 MESH_FIGURES: dict[str, Callable] = {"cap_setup": fig_cap_setup}
+CASES_FIGURES: dict[str, Callable] = {"cap_PxAndAc": fig_cap_PxAndAc, "cap_PxOverAc": fig_cap_PxOverAc}
 TABLE_FIGURES: dict[str, Callable] = {"verification": fig_verification}
 
 MODEL_FIGURES: dict[str, Callable] = {
