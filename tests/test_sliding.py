@@ -129,3 +129,24 @@ def test_force_balance_at_every_step(di_case):
     for rec in res.records:
         assert rec.Fn + rec.reaction[1] == pytest.approx(0.0, abs=1e-8), rec.phase
         assert rec.Ft + rec.reaction[0] == pytest.approx(0.0, abs=1e-8), rec.phase
+
+
+def test_pull_off_ends_detached_with_a_file(tmp_path):
+    """A tensile preload beyond pull-off: status detached, the file is written, the exit code is non-zero."""
+    import subprocess
+    import sys
+
+    import xarray as xr
+
+    from conftest import PAPER_CONFIG
+
+    out = tmp_path / "detached.nc"
+    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "mesh.size=32",
+                          "--set", "loading.preload=1.0", "--set", "output.snapshot_ubar=[]", "-q", "-o", str(out)],
+                         capture_output=True, text=True, timeout=600)
+    assert res.returncode == 3, res.stderr
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "detached" and "pull-off" in ds.attrs["status_reason"]
+        Fn = ds["Fn"].values
+        assert 0.1 < Fn.max() < 1.0  # the largest tensile force that still had an equilibrium
+        assert np.isnan(float(ds["peak_Ft"]))
