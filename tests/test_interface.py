@@ -120,7 +120,7 @@ def test_friction_tangent_against_finite_differences(paper_config, element, mode
     free = np.ones(model.n_dofs + 1)
     free[model.bc.dofs] = 0.0
     eps = 1e-8
-    for k in range(4):
+    for _ in range(4):
         v = rng.normal(size=model.n_dofs + 1) * free
         fd = (model.residual(x + eps * v, constraint) - model.residual(x - eps * v, constraint)) / (2 * eps)
         Jv = _apply_jacobian(solve, v)

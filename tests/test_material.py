@@ -1,7 +1,6 @@
 """Plane-strain neo-Hooke: stress-free reference, objectivity, small-strain limit, exact tangent."""
 
 import numpy as np
-import pytest
 
 from capslide import material
 from capslide.params import lame_plane_strain

@@ -106,7 +106,7 @@ class AMGSolver:
         if rebuild or self._ml is None:
             info.setup_time, info.rebuilt = self._setup(A), True
         symmetric = self._is_symmetric(A)
-        for attempt in range(2):
+        for _attempt in range(2):
             M = self._ml.aspreconditioner(cycle="V")
             t = time.perf_counter()
             X = np.empty_like(B2)
@@ -187,7 +187,7 @@ class LUKrylovSolver:
         info = SolveInfo()
         if rebuild or self._lu is None:
             info.setup_time, info.rebuilt = self._factor(A), True
-        for attempt in range(2):
+        for _attempt in range(2):
             lu = self._lu
             M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
             t = time.perf_counter()
