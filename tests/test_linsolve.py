@@ -5,7 +5,7 @@ import pytest
 import scipy.sparse as sp
 
 from capslide.assembly import BulkForm, Dirichlet, rigid_body_modes
-from capslide.linsolve import AMGSolver, DirectSolver, LUKrylovSolver, make_solver
+from capslide.linsolve import AMGSolver, DirectSolver, LinearSolveError, LUKrylovSolver, make_solver
 from capslide.mesh import CapMeshSpec, cap_mesh
 from fe_helpers import LAM, MU
 
@@ -77,6 +77,21 @@ def test_amg_rebuild_rule(cap_system):
     solver.invalidate()
     _, info = solver.solve(A2, b)
     assert info.rebuilt
+
+
+def test_amg_restarts_from_its_iterate_before_rebuilding(cap_system):
+    mesh, A, b, bc = cap_system
+    needed = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True).solve(A, b)[1].iterations
+    # too few iterations for one pass, enough for two: the restart finishes the solve on the same hierarchy
+    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=int(0.7 * needed))
+    solver.solve(A, b)  # first call builds the hierarchy (and restarts)
+    x, info = solver.solve(A, b)
+    assert not info.rebuilt and solver.stats["setups"] == 1
+    assert info.iterations > solver.maxiter and info.true_residual <= 10 * solver.rtol
+    # far too few iterations: restart, rebuild, then a clear error
+    hopeless = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=2)
+    with pytest.raises(LinearSolveError, match="relative residual"):
+        hopeless.solve(A, b)
 
 
 def test_lu_krylov_reuses_factorization(cap_system):
