@@ -50,12 +50,19 @@ def config_attrs(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to ``path`` via a temporary file in the same directory and a rename."""
+    """Write ``ds`` to ``path`` via a temporary file in the same directory and a rename.
+
+    Numeric variables are stored with lossless zlib compression (byte shuffle),
+    which readers undo transparently; far-from-contact tractions and flags
+    compress to almost nothing.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp")
+    encoding = {name: {"zlib": True, "complevel": 4, "shuffle": True}
+                for name, var in ds.variables.items() if var.dtype.kind in "fiub" and var.ndim > 0}
     try:
-        ds.to_netcdf(tmp, engine="netcdf4")
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
