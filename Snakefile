@@ -12,6 +12,9 @@ DEFAULT_CONFIG = "config/config.yaml"
 configfile: DEFAULT_CONFIG
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/model_figures.smk"
 include: "workflow/rules/meshes.smk"

@@ -1,8 +1,12 @@
 """The Snakemake workflow, run in a scratch copy of the repository."""
 
+import os
+import re
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -14,7 +18,7 @@ SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 
 @pytest.fixture()
 def workdir(tmp_path):
-    for name in ("Snakefile", "workflow", "config", "src"):
+    for name in ("Snakefile", "workflow", "config", "src", "profiles"):
         src = ROOT / name
         if src.is_dir():
             shutil.copytree(src, tmp_path / name, symlinks=True, ignore=shutil.ignore_patterns("__pycache__"))
@@ -64,9 +68,51 @@ def test_smoke_workflow_end_to_end(workdir):
         assert (ds["status"].values == 0).all()
         for name, var in ds.variables.items():
             assert "units" in var.attrs and "long_name" in var.attrs, name
-    for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc"):
+    for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc",
+                 "cap_Aczoom", "cap_xn"):
         for ext in ("pdf", "png"):
             assert (results / "figures" / f"{name}.{ext}").stat().st_size > 5000, name
     # nothing left to do: a second run is a no-op
     again = snakemake(workdir, "--configfile", "config/smoke.yaml", "-n")
     assert "Nothing to be done" in again.stdout + again.stderr
+
+    # the report: one self-contained page with every figure
+    rep = snakemake(workdir, "--configfile", "config/smoke.yaml", "--report", "report.html")
+    assert rep.returncode == 0, rep.stdout[-2000:] + rep.stderr[-2000:]
+    page = (workdir / "report.html").read_text()
+    assert len(page) > 200_000 and all(f"Reproduces <strong>{f}</strong>" in page for f in ("f:Tn", "f:cap:Aczoom", "f:cap:xn"))
+
+    # ParaView export of every case (optional target)
+    pv = snakemake(workdir, "paraview", "--configfile", "config/smoke.yaml")
+    assert pv.returncode == 0, pv.stdout[-2000:] + pv.stderr[-2000:]
+    pvd = (results / "paraview" / "DI_Fn+0.000" / "DI_Fn+0.000.pvd").read_text()
+    assert pvd.count("<DataSet ") == 6 and len(list((results / "paraview" / "DI_Fn+0.000").glob("*.vtu"))) == 6
+
+    # deleting one case file reruns that case and what depends on it, nothing else
+    (results / "cases" / "EA0_Fn+0.000.nc").unlink()
+    dry = snakemake(workdir, "--configfile", "config/smoke.yaml", "-n")
+    assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 2, "all": 1}
+
+    # an interrupted run (Ctrl-C during the case) leaves no partial file; the rerun completes
+    proc = subprocess.Popen([str(SNAKEMAKE), "--cores", "2", "--configfile", "config/smoke.yaml"], cwd=workdir,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    log = workdir / "logs" / "cases" / "EA0_Fn+0.000.log"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not (log.exists() and "slide" in log.read_text()):
+        time.sleep(0.2)
+    assert proc.poll() is None, "the case finished before it could be interrupted"
+    os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C sends to the foreground process group
+    assert proc.wait(timeout=60) != 0
+    assert not (results / "cases" / "EA0_Fn+0.000.nc").exists()
+    assert not list((results / "cases").glob(".*tmp*"))
+    rerun = snakemake(workdir, "--configfile", "config/smoke.yaml")
+    assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
+    with xr.open_dataset(results / "cases" / "EA0_Fn+0.000.nc") as ds:
+        assert ds.attrs["status"] == "completed"
+
+
+def _job_counts(dry_run_output: str) -> dict[str, int]:
+    """The 'Job stats' table of a Snakemake dry run as {rule: count} (without the total)."""
+    table = dry_run_output.split("Job stats:")[1].split("\n\n")[0]
+    rows = (re.match(r"^(\w+)\s+(\d+)$", line.strip()) for line in table.splitlines())
+    return {m[1]: int(m[2]) for m in rows if m and m[1] != "total"}

@@ -14,11 +14,14 @@ import sys
 from pathlib import Path
 from typing import Sequence
 
+import numpy as np
+
 from . import __version__
 from .config import ConfigError, load_config
 from .params import Parameters
 
 EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130
 EXIT_STATUS = {"completed": 0, "detached": 3, "diverged": 4}
 
 
@@ -74,11 +77,23 @@ def _config_from_netcdf(path: str) -> dict:
     return validate(yaml.safe_load(text))
 
 
+def _open_netcdf(path):
+    """A result file loaded into memory (InputError when it is missing or not netCDF)."""
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return ds.load()
+    except (OSError, ValueError) as err:
+        raise InputError(f"cannot read netCDF file '{path}': {err}") from None
+
+
 def cmd_figure(args) -> int:
     """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
     from . import figures  # matplotlib only when a figure is drawn
 
-    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES}
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES,
+             **figures.CASE_FIGURES}
     if args.name not in known:
         raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = _check_outputs(args.output, {"pdf", "png", "svg"})
@@ -89,15 +104,17 @@ def cmd_figure(args) -> int:
     elif args.name in figures.CASES_FIGURES:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
-        import xarray as xr
-
-        try:
-            cases = xr.open_dataset(args.input, engine="netcdf4").load()
-        except (OSError, ValueError) as err:
-            raise InputError(f"cannot read netCDF file '{args.input}': {err}") from None
+        cases = _open_netcdf(args.input)
         tau = float(cases.attrs["friction.mu_DI"]) * float(cases.attrs["adhesion.T_max"]) / float(cases.attrs["material.E"])
         kwargs = {"tau_DI": tau} if args.name == "cap_PxOverAc" else {}
         draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
+    elif args.name in figures.CASE_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
+        case = _open_netcdf(args.input)
+        if "snapshot_ubar" not in case:
+            raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs a case file)")
+        draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
         if not args.tables:
             raise InputError(f"figure '{args.name}' needs --table FILE.csv")
@@ -112,6 +129,31 @@ def cmd_figure(args) -> int:
         draw = lambda: figures.MESH_FIGURES[args.name](mesh, params)  # noqa: E731
     with figures.journal_style():
         figures.save(draw(), outputs)
+    return 0
+
+
+def cmd_vtk(args) -> int:
+    """Export the field snapshots of a case file as a .vtu series with a .pvd index (ParaView)."""
+    from .vtk import write_snapshot_series
+
+    case = _open_netcdf(args.file)
+    missing = [k for k in ("snapshot_ubar", "X_node", "Y_node", "cell_nodes", "u_node", "v_node", "I1_sigma") if k not in case]
+    if missing:
+        raise InputError(f"'{args.file}' holds no field snapshots (missing {', '.join(missing)})")
+    if case.sizes.get("snapshot", 0) == 0:
+        raise InputError(f"'{args.file}' holds no field snapshots (snapshot dimension is empty)")
+    out = Path(args.output)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"output '{out}' exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(f"cannot create output directory '{out}': {err.strerror}") from None
+    stem = args.stem or Path(args.file).stem
+    nodes = np.column_stack([case["X_node"].values, case["Y_node"].values])
+    pvd = write_snapshot_series(out, stem, nodes, case["cell_nodes"].values, case["snapshot_ubar"].values,
+                                case["u_node"].values, case["v_node"].values, case["I1_sigma"].values)
+    print(f"{pvd}: {case.sizes['snapshot']} snapshots (time = ubar / L0)")
     return 0
 
 
@@ -242,7 +284,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_constants)
 
     p = sub.add_parser("figure", help="render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from "
-                                      "CONFIG, cap_setup from --input MESH.nc")
+                                      "CONFIG, cap_setup from --input MESH.nc, cap_PxAndAc and cap_PxOverAc from "
+                                      "--input CASES.nc, cap_Aczoom and cap_xn from --input CASE.nc")
     p.add_argument("name", help="figure name")
     p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) (model figures)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help="config override")
@@ -274,6 +317,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="CASE.nc")
     p.set_defaults(func=cmd_inspect)
 
+    p = sub.add_parser("vtk", help="export the field snapshots of a case file for ParaView (.vtu series + .pvd)")
+    p.add_argument("file", metavar="CASE.nc")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--stem", help="file name stem (default: the case file's)")
+    p.set_defaults(func=cmd_vtk)
+
     p = sub.add_parser("mesh", help="build the cap mesh of a configuration, write it as netCDF")
     _add_config_args(p)
     p.add_argument("-o", "--output", required=True, metavar="MESH.nc")
@@ -289,3 +338,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ConfigError, InputError) as err:
         print(f"capslide: error: {err}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:  # Ctrl-C or a scheduler's SIGINT: results are written atomically, nothing partial remains
+        print("capslide: interrupted; no output written", file=sys.stderr)
+        return EXIT_INTERRUPTED

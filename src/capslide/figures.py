@@ -28,7 +28,7 @@ from .params import Adhesion, Parameters, JKRSphereExperiment, PDMS_SPHERE  # no
 
 __all__ = ["MODEL_FIGURES", "MESH_FIGURES", "journal_style", "save", "fig_Tn", "fig_modelCA", "fig_modelAM", "fig_TnTt",
            "fig_exp_FnJKR", "fig_cap_setup", "fig_verification", "TABLE_FIGURES", "CASES_FIGURES", "fig_cap_PxAndAc",
-           "fig_cap_PxOverAc"]
+           "fig_cap_PxOverAc", "CASE_FIGURES", "fig_cap_Aczoom", "fig_cap_xn"]
 
 # Marker colours of the paper's asterisks (its captions name them).
 BLUE, ORANGE, YELLOW, PURPLE, GREEN = "#0072BD", "#D95319", "#EDB120", "#7E2F8E", "#77AC30"
@@ -423,9 +423,149 @@ def fig_cap_PxOverAc(cases, tau_DI: float | None = None):
     return fig
 
 
+def _snapshot_geometry(case, k: int):
+    """Deformed cell corners (n_cells, 4, 2), I1(sigma)/E per cell and substrate height h of snapshot k."""
+    X = np.column_stack([case["X_node"].values, case["Y_node"].values])
+    x = X + np.column_stack([case["u_node"][k].values, case["v_node"][k].values])
+    corners = x[case["cell_nodes"].values[:, :4]]
+    ubar = float(case["snapshot_ubar"][k])
+    slide = np.flatnonzero(case["phase"].values == 2)
+    steps = slide if slide.size else np.arange(case.sizes["step"])
+    step = int(steps[np.argmin(np.abs(case["ubar"].values[steps] - ubar))])
+    return corners, case["I1_sigma"][k].values, float(case["h"][step]), step
+
+
+def _cells_in_window(corners, xlim, ylim):
+    """Cells whose bounding box overlaps the window (so the window is filled to its edges)."""
+    lo, hi = corners.min(axis=1), corners.max(axis=1)
+    return (hi[:, 0] >= xlim[0]) & (lo[:, 0] <= xlim[1]) & (hi[:, 1] >= ylim[0]) & (lo[:, 1] <= ylim[1])
+
+
+def _stress_cells(ax, corners, I1, norm, **kw):
+    from matplotlib.collections import PolyCollection
+
+    pc = PolyCollection(corners, array=I1, cmap="RdBu_r", norm=norm, edgecolors="face", linewidths=0.05, rasterized=True, **kw)
+    ax.add_collection(pc)
+    return pc
+
+
+def _substrate(ax, h, xlim, thickness):
+    from matplotlib.patches import Rectangle
+
+    ax.add_patch(Rectangle((xlim[0] - 1, h), xlim[1] - xlim[0] + 2, thickness, facecolor="0.85", edgecolor="none", zorder=0))
+    ax.axhline(h, color="0.3", lw=0.6, zorder=1)
+
+
+def _symmetric_norm(values):
+    from matplotlib.colors import TwoSlopeNorm
+
+    vmax = float(np.nanpercentile(np.abs(values), 99.5)) if values.size else 1.0
+    return TwoSlopeNorm(vcenter=0.0, vmin=-max(vmax, 1e-12), vmax=max(vmax, 1e-12))
+
+
+def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
+    """f:cap:Aczoom: the contact interface at the snapshots ubar = 0.5 ... 4.0 L0 (vertical axis stretched).
+
+    Cap frame (base fixed, substrate moved by ubar in +x); cells coloured by
+    I1(sigma)/E; the ubar = 0 configuration in orange behind, its surface as an
+    orange line; the substrate in grey above y = h.
+    """
+    snaps = case["snapshot_ubar"].values
+    ks = [int(np.argmin(np.abs(snaps - u))) for u in panels if np.min(np.abs(snaps - u)) < 1e-9]
+    if not ks:
+        raise ValueError(f"no snapshots at ubar = {', '.join(f'{u:g}' for u in panels)} in the case file")
+    k0 = int(np.argmin(np.abs(snaps))) if np.min(np.abs(snaps)) < 1e-9 else None
+    s0 = int(np.flatnonzero(case["phase"].values == 2)[0]) if np.any(case["phase"].values == 2) else 0
+    half = 0.5 * float(case["area"][s0])
+    xc = 0.5 * (float(case["x_left"][s0]) + float(case["x_right"][s0]))
+    xlim = (xc - 1.4 * max(half, 0.5), xc + 1.4 * max(half, 0.5))
+    depth = (xlim[1] - xlim[0]) / (1.35 * stretch)  # panels about 4:3 on paper
+    geo = [_snapshot_geometry(case, k) for k in ks]
+    h_ref = geo[0][2]
+    ylim = (h_ref - depth, h_ref + 0.12 * depth)
+    picked = [_cells_in_window(c, xlim, ylim) for c, _, _, _ in geo]
+    norm = _symmetric_norm(np.concatenate([I1[m] for (_, I1, _, _), m in zip(geo, picked)]))
+    ncol = min(4, len(ks))
+    nrow = -(-len(ks) // ncol)
+    panel_w = 0.9 * DOUBLE_COLUMN / 4
+    panel_h = panel_w * stretch * (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
+    fig, axes = plt.subplots(nrow, ncol, figsize=(DOUBLE_COLUMN, nrow * (panel_h + 0.3) + 0.45), squeeze=False,
+                             sharex=True, sharey=True)
+    x0 = y0 = None
+    if k0 is not None:
+        c0, _, _, _ = _snapshot_geometry(case, k0)
+        c0 = c0[_cells_in_window(c0, xlim, ylim)]
+        x0, y0 = case["x_surface"][s0].values, case["y_surface"][s0].values
+    pc = None
+    for ax, k, (corners, I1, h, _), m in zip(axes.flat, ks, geo, picked):
+        _substrate(ax, h, xlim, depth)
+        if k0 is not None:
+            from matplotlib.collections import PolyCollection
+
+            ax.add_collection(PolyCollection(c0, facecolors=ORANGE, edgecolors="none", alpha=0.35, rasterized=True))
+        pc = _stress_cells(ax, corners[m], I1[m], norm)
+        if x0 is not None:
+            ax.plot(x0, y0, "-", color=ORANGE, lw=0.8)
+        ax.set(xlim=xlim, ylim=ylim, aspect=stretch)
+        ax.text(0.03, 0.06, fr"$\bar{{u}} = {float(snaps[k]):.1f}\,L_0$", transform=ax.transAxes, fontsize=7,
+                bbox=dict(facecolor="white", edgecolor="none", pad=1, alpha=0.8))
+    for ax in axes.flat[len(ks):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel(r"$x\,/\,L_0$")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"$y\,/\,L_0$")
+    fig.suptitle(fr"contact interface during sliding, vertical axis stretched by {stretch:g} "
+                 r"(orange: $\bar{u} = 0$)", fontsize=8)
+    fig.tight_layout(rect=(0, 0, 0.92, 1))
+    cax = fig.add_axes((0.93, 0.15, 0.012, 0.7))
+    fig.colorbar(pc, cax=cax, label=r"$I_1(\sigma)\,/\,E$")
+    return fig
+
+
+def fig_cap_xn(case, ubar: float | None = None):
+    """f:cap:xn: I1(sigma)/E over the deformed cap during sliding, with a zoom on the contact (true scale).
+
+    ``ubar`` picks the snapshot; default: the last one before the onset of full sliding.
+    """
+    snaps = case["snapshot_ubar"].values
+    if snaps.size == 0:
+        raise ValueError("the case file holds no field snapshots")
+    if ubar is None:
+        onset = float(case["onset_ubar"])
+        before = snaps[(snaps > 0) & (snaps <= onset)] if np.isfinite(onset) else snaps[snaps > 0]
+        ubar = float(before.max()) if before.size else float(snaps.max())
+    k = int(np.argmin(np.abs(snaps - ubar)))
+    corners, I1, h, step = _snapshot_geometry(case, k)
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(DOUBLE_COLUMN, 4.6), gridspec_kw={"height_ratios": [1.0, 1.1]})
+    lo, hi = corners[..., 0].min(), corners[..., 0].max()
+    xlim1 = (lo - 0.5, hi + 0.5)
+    half = 0.5 * float(case["area"][step])
+    xc = 0.5 * (float(case["x_left"][step]) + float(case["x_right"][step]))
+    w = 1.6 * max(half, 0.5)
+    xlim2, ylim2 = (xc - w, xc + w), (h - 0.55 * w, h + 0.08 * w)
+    zoom = _cells_in_window(corners, xlim2, ylim2)
+    norm = _symmetric_norm(I1[zoom])
+    for ax, cells, xlim, ylim in ((ax1, np.ones(len(I1), bool), xlim1, (-0.5, h + 1.5)), (ax2, zoom, xlim2, ylim2)):
+        _substrate(ax, h, xlim, 0.2 * (ylim[1] - ylim[0]) + 2.0)
+        pc = _stress_cells(ax, corners[cells], I1[cells], norm)
+        ax.set(xlim=xlim, ylim=ylim, aspect="equal", xlabel=r"$x\,/\,L_0$", ylabel=r"$y\,/\,L_0$")
+    from matplotlib.patches import Rectangle
+
+    ax1.add_patch(Rectangle((xlim2[0], ylim2[0]), xlim2[1] - xlim2[0], ylim2[1] - ylim2[0], fill=False, ec="k", lw=0.6))
+    Fn = round(float(case["Fn"][step]), 6)
+    ax1.set_title(fr"(a) deformed cap at $\bar{{u}} = {float(snaps[k]):g}\,L_0$, $F_\mathrm{{n}}^* = {Fn + 0.0:+.3f}$, "
+                  fr"$F_\mathrm{{t}} = {float(case['Ft'][step]):.3g}\,E L_0 W$")
+    ax2.set_title("(b) zoom on the contact (true scale)")
+    fig.colorbar(pc, ax=[ax1, ax2], label=r"$I_1(\sigma)\,/\,E$ (colour range from the zoom)", shrink=0.8,
+                 extend="both")
+    return fig
+
+
 MESH_FIGURES: dict[str, Callable] = {"cap_setup": fig_cap_setup}
 CASES_FIGURES: dict[str, Callable] = {"cap_PxAndAc": fig_cap_PxAndAc, "cap_PxOverAc": fig_cap_PxOverAc}
 TABLE_FIGURES: dict[str, Callable] = {"verification": fig_verification}
+CASE_FIGURES: dict[str, Callable] = {"cap_Aczoom": fig_cap_Aczoom, "cap_xn": fig_cap_xn}
 
 MODEL_FIGURES: dict[str, Callable] = {
     "Tn": fig_Tn,

@@ -1,6 +1,14 @@
-# Cap figures of the paper, drawn from the collected dataset only.
+# Cap figures of the paper: force and area curves from the collected dataset,
+# interface and stress snapshots from the case file of DI at zero load.
 CAP_FIGURES = ["cap_PxAndAc", "cap_PxOverAc"]
+CASE_FIGURES = ["cap_Aczoom", "cap_xn"]
+# the case the paper's snapshot figures show: model DI, zero normal load
+SNAPSHOT_CASE = next(
+    (c for c, (m, f) in sorted(CASES.items()) if STUDY["models"][m].get("friction.model") == "DI" and f == 0.0), None
+)
 CAP_FIGURE_FILES = expand("results/figures/{name}.{ext}", name=CAP_FIGURES, ext=["pdf", "png"])
+if SNAPSHOT_CASE is not None:
+    CAP_FIGURE_FILES += expand("results/figures/{name}.{ext}", name=CASE_FIGURES, ext=["pdf", "png"])
 
 
 rule cap_figure:
@@ -8,7 +16,7 @@ rule cap_figure:
         "results/cases.nc",
     output:
         pdf="results/figures/{name}.pdf",
-        png="results/figures/{name}.png",
+        png=report("results/figures/{name}.png", caption="../report/cap_figure.rst", category="Cap: sliding"),
     wildcard_constraints:
         name="|".join(CAP_FIGURES),
     log:
@@ -21,3 +29,46 @@ rule cap_figure:
         runtime=5,
     shell:
         THREADS_ENV + " " + CAPSLIDE + " figure {wildcards.name} --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
+
+
+rule case_figure:
+    input:
+        f"results/cases/{SNAPSHOT_CASE}.nc",
+    output:
+        pdf="results/figures/{name}.pdf",
+        png=report("results/figures/{name}.png", caption="../report/case_figure.rst", category="Cap: sliding"),
+    wildcard_constraints:
+        name="|".join(CASE_FIGURES),
+    log:
+        "logs/figures/{name}.log",
+    benchmark:
+        "results/benchmarks/figures/{name}.tsv"
+    threads: 1
+    resources:
+        mem_mb=4000,
+        runtime=10,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " figure {wildcards.name} --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
+
+
+# snakemake --cores 2 paraview: every case's field snapshots as .vtu series with a .pvd index (optional target).
+rule paraview:
+    input:
+        expand("results/paraview/{case}/{case}.pvd", case=sorted(CASES)),
+
+
+rule vtk_export:
+    input:
+        "results/cases/{case}.nc",
+    output:
+        "results/paraview/{case}/{case}.pvd",
+    wildcard_constraints:
+        case="|".join(re.escape(c) for c in CASES) if CASES else "none",
+    log:
+        "logs/paraview/{case}.log",
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " vtk {input} -o results/paraview/{wildcards.case} > {log} 2>&1"

@@ -30,7 +30,7 @@ rule cap_setup_figure:
         STUDY_MESH,
     output:
         pdf="results/figures/cap_setup.pdf",
-        png="results/figures/cap_setup.png",
+        png=report("results/figures/cap_setup.png", caption="../report/cap_setup.rst", category="Cap: sliding"),
     log:
         "logs/figures/cap_setup.log",
     benchmark:

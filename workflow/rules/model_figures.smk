@@ -8,7 +8,7 @@ rule model_figure:
         CONFIG_FILES,
     output:
         pdf="results/figures/{name}.pdf",
-        png="results/figures/{name}.png",
+        png=report("results/figures/{name}.png", caption="../report/model_figure.rst", category="Contact models"),
     wildcard_constraints:
         name="|".join(MODEL_FIGURES),
     log:

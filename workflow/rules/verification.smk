@@ -33,7 +33,7 @@ rule verification_figure:
         expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
     output:
         pdf="results/verification/verification.pdf",
-        png="results/verification/verification.png",
+        png=report("results/verification/verification.png", caption="../report/verification.rst", category="Verification"),
     params:
         tables=lambda wildcards, input: " ".join(f"--table {t}" for t in input),
     log:
