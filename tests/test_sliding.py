@@ -150,3 +150,18 @@ def test_pull_off_ends_detached_with_a_file(tmp_path):
         Fn = ds["Fn"].values
         assert 0.1 < Fn.max() < 1.0  # the largest tensile force that still had an equilibrium
         assert np.isnan(float(ds["peak_Ft"]))
+
+
+def test_stop_at_onset_ends_on_the_onset_step(paper_config, di_case):
+    """loading.stop_at_onset ends the slide at the first fully sliding step of the full run, same history."""
+    p_full, full = di_case
+    p = params_with(paper_config, "friction.model=DI", "loading.stop_at_onset=true")
+    short = run_case(p)
+    assert short.status == "completed" and "onset of full sliding" in short.reason
+    assert short.records[-1].ubar == full.scalars["onset_ubar"] < p_full.loading.ubar_max
+    for key in ("onset_ubar", "onset_Ft", "onset_area"):
+        assert short.scalars[key] == full.scalars[key]
+    # the full run's peak may come a step after the onset (full sliding at a constant force, to round-off)
+    assert short.scalars["peak_Ft"] == pytest.approx(full.scalars["peak_Ft"], rel=1e-12)
+    n = len(short.records)
+    np.testing.assert_array_equal([r.Ft for r in short.records], [r.Ft for r in full.records[:n]])

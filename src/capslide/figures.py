@@ -370,7 +370,12 @@ def _slide_curve(ds, i):
 
 
 def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
-    """f:cap:PxAndAc: Ft and contact area against ubar, one row per preload, the models per panel."""
+    """f:cap:PxAndAc: Ft and contact area against ubar, one row per preload, the models per panel.
+
+    Only cases that slid to ubar_max are drawn (``slide_end`` = 0).
+    """
+    if "slide_end" in cases:
+        cases = cases.isel(case=np.flatnonzero(cases["slide_end"].values == 0))
     preloads = sorted(set(np.round(cases["preload"].values, 6)))
     fig, axes = plt.subplots(len(preloads), 2, figsize=(DOUBLE_COLUMN, 2.0 * len(preloads) + 0.4), squeeze=False)
     for row, F in zip(axes, preloads):

@@ -24,7 +24,7 @@ from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
 from .newton import NewtonOptions, newton
 
 __all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload", "slide",
-           "run_load_path", "sliding_onset"]
+           "run_load_path", "sliding_onset", "fully_sliding"]
 
 PHASES = ("approach", "preload", "slide")
 
@@ -220,15 +220,27 @@ def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=No
     model.contact.start_friction(x[:-1], 0.0)
     min_area = 2.0 * H0_AT_SIZE_1 * p.mesh.size
 
-    def detached(rec: StepRecord) -> str | None:
-        return "detached" if rec.area < min_area else None
+    def stop(rec: StepRecord) -> str | None:
+        if rec.area < min_area:
+            return "detached"
+        if L.stop_at_onset and fully_sliding(rec):
+            return "completed"  # asked to end at the onset of full sliding
+        return None
 
     if on_snapshot is not None and any(b == 0.0 for b in snapshot_ubar):
         on_snapshot(0.0, x)
-    return continuation(model, x, lambda ubar: SlideAtForce(ubar, Fn), 0.0, L.ubar_max, L.slide_step, "slide",
-                        records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
-                        stop=detached, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot,
-                        step_limit=onset_step_limit)
+    res = continuation(model, x, lambda ubar: SlideAtForce(ubar, Fn), 0.0, L.ubar_max, L.slide_step, "slide",
+                       records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
+                       stop=stop, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot,
+                       step_limit=onset_step_limit)
+    if res.status == "completed" and res.reason:
+        res.reason = f"slide: stopped at the onset of full sliding, ubar = {records[-1].ubar:.6g}"
+    return res
+
+
+def fully_sliding(rec: StepRecord) -> bool:
+    """A slide step with contact and no sticking point (DESIGN section 5: the onset test)."""
+    return rec.phase == "slide" and rec.ubar != 0.0 and rec.area > 0.0 and not np.any(rec.slip_state == STICK)
 
 
 def onset_step_limit(records: list[StepRecord], ubar: float, tolerance: float = 0.005) -> float:
@@ -270,7 +282,7 @@ def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
     Ft = np.array([r.Ft for r in slide_recs])
     out["peak_Ft"] = float(Ft[np.argmax(np.abs(Ft))])
     for r in slide_recs:
-        if r.ubar != 0.0 and r.area > 0.0 and not np.any(r.slip_state == STICK):
+        if fully_sliding(r):
             out.update(onset_ubar=r.ubar, onset_Ft=r.Ft, onset_area=r.area)
             break
     return out

@@ -164,6 +164,7 @@ class Loading:
     slide_step: float  # L0
     max_slide_step: float  # L0
     min_slide_step: float  # L0
+    stop_at_onset: bool = False  # end the slide at the onset of full sliding
 
 
 @dataclass(frozen=True)
@@ -237,7 +238,7 @@ class Parameters:
                 force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
                 retract_from=float(load["retract_from"]),
                 slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
-                min_slide_step=float(load["min_slide_step"]),
+                min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),

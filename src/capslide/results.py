@@ -220,6 +220,9 @@ def collect(paths) -> xr.Dataset:
         data[name] = ("case", np.array([float(c[name]) for c in cases]), dict(cases[0][name].attrs))
     status = np.array([STATUSES.index(c.attrs.get("status", "diverged")) for c in cases], dtype=np.int8)
     data["status"] = ("case", status, _flag(STATUSES, "final status of the case"))
+    onset_only = [str(c.attrs.get("loading.stop_at_onset", "false")).lower() in ("true", "1") for c in cases]
+    data["slide_end"] = ("case", np.array(onset_only, dtype=np.int8),
+                         _flag(("ubar_max", "onset"), "where the slide was set to end (loading.stop_at_onset)"))
     data["n_steps"] = ("case", np.array([c.sizes["step"] for c in cases], dtype=np.int32),
                        {"units": "1", "long_name": "number of converged steps of the case"})
     model = [str(c.attrs["friction.model"]) for c in cases]
