@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -66,8 +67,15 @@ def test_smoke_workflow_end_to_end(workdir):
     with xr.open_dataset(results / "cases.nc") as ds:
         assert ds.sizes["case"] == 3 and set(ds["model"].values) == {"DI", "EA"}
         assert (ds["status"].values == 0).all()
-        for name, var in ds.variables.items():
-            assert "units" in var.attrs and "long_name" in var.attrs, name
+    for path in [results / "cases.nc", *cases]:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # opening must not warn
+            with xr.open_dataset(path) as ds:
+                assert {"Conventions", "software_version", "config_yaml"} <= set(ds.attrs), path.name
+                for name, var in ds.variables.items():
+                    assert "units" in var.attrs and "long_name" in var.attrs, (path.name, name)
+                    if "flag_values" in var.attrs:
+                        assert len(var.attrs["flag_meanings"].split()) == len(var.attrs["flag_values"]), name
     for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc",
                  "cap_Aczoom", "cap_xn"):
         for ext in ("pdf", "png"):
