@@ -40,6 +40,11 @@ BAD_INPUT = [
     (["--set", "noequals"], ["override", "noequals"]),
     (["--set", "material.E.x=1"], ["material.E", "value, not a section"]),
     (["--set", "material=3"], ["material", "section"]),
+    (["--set", "friction.g_cut_DI_over_g_max=0.8"], ["friction.g_cut_DI_over_g_max", "0.8", "regularization gap"]),
+    (["--set", "loading.preload=20"], ["loading.preload", "20", "beyond pull-off"]),
+    (["--set", "contact.repulsion_only=true", "--set", "loading.preload=0.1"], ["loading.preload", "repulsion_only"]),
+    (["--set", "solver.linear=cholmod"], ["solver.linear", "'cholmod'", "amg, lu_krylov, direct"]),
+    (["--set", "output.snapshot_ubar=1.0"], ["output.snapshot_ubar", "array"]),
 ]
 
 
@@ -86,3 +91,33 @@ def test_figure_bad_output_leaves_nothing(tmp_path):
     res = run("figure", "Tn", PAPER_CONFIG, "--set", "material.nu=0.5", "-o", tmp_path / "fig.png")
     assert res.returncode == 2
     assert list(tmp_path.iterdir()) == []
+
+
+# (command line after "capslide", words of the one-line message); {tmp} is a scratch directory
+BAD_RUNS = [
+    (["run", PAPER_CONFIG, "-o", "{tmp}/case.txt"], ["case.txt", "unsupported file type"]),
+    (["run", PAPER_CONFIG, "-o", "{tmp}/adir.nc"], ["adir.nc", "is a directory"]),
+    (["run", PAPER_CONFIG, "-o", "{tmp}/afile/case.nc"], ["afile", "not a directory"]),
+    (["run", PAPER_CONFIG, "-o", "/proc/capslide/case.nc"], ["/proc", "not writable"]),
+    (["run", "{tmp}/absent.yaml", "-o", "{tmp}/case.nc"], ["absent.yaml"]),
+    (["inspect", "{tmp}/absent.nc"], ["cannot read netCDF file", "absent.nc"]),
+    (["inspect", "{tmp}/afile"], ["cannot read netCDF file", "afile"]),
+    (["vtk", "{tmp}/afile", "-o", "{tmp}/vtk"], ["cannot read netCDF file", "afile"]),
+    (["collect", "{tmp}/absent.nc", "-o", "{tmp}/cases.nc"], ["absent.nc"]),
+    (["figure", "cap_xn", "-o", "{tmp}/xn.png"], ["cap_xn", "--input CASE.nc"]),
+    (["figure", "cap_PxAndAc", "--input", "{tmp}/afile", "-o", "{tmp}/f.png"], ["cannot read netCDF file", "afile"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", BAD_RUNS, ids=[" ".join(map(str, b[0][:1] + b[0][-1:])) for b in BAD_RUNS])
+def test_bad_command_lines(tmp_path, argv, words):
+    (tmp_path / "afile").write_text("not netCDF\n")
+    (tmp_path / "adir.nc").mkdir()
+    before = sorted(tmp_path.rglob("*"))
+    res = run(*[str(a).format(tmp=tmp_path) for a in argv])
+    assert res.returncode == 2, res.stderr
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("capslide: error: ") and "Traceback" not in res.stderr, res.stderr
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+    assert sorted(tmp_path.rglob("*")) == before  # nothing written, not even a directory

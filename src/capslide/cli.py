@@ -11,6 +11,7 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 from typing import Sequence
 
@@ -45,10 +46,17 @@ def _check_outputs(paths: Sequence[str], suffixes: set[str]) -> list[Path]:
         path = Path(text)
         if path.suffix.lstrip(".") not in suffixes:
             raise InputError(f"output '{path}': unsupported file type (allowed: {', '.join(sorted(suffixes))})")
+        if path.is_dir():
+            raise InputError(f"output '{path}' is a directory")
         parent = path.parent if str(path.parent) else Path(".")
         existing = next((d for d in [parent, *parent.parents] if d.exists()), Path("."))
-        if not existing.is_dir() or not os.access(existing, os.W_OK):
-            raise InputError(f"output '{path}': directory '{existing}' is not writable")
+        if not existing.is_dir():
+            raise InputError(f"output '{path}': '{existing}' is not a directory")
+        try:  # a real probe: permission bits say nothing for root or on read-only mounts
+            with tempfile.TemporaryFile(dir=existing):
+                pass
+        except OSError as err:
+            raise InputError(f"output '{path}': directory '{existing}' is not writable ({err.strerror})") from None
         out.append(path)
     return out
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import math
 import re
 from importlib import resources
 from pathlib import Path
@@ -180,6 +181,25 @@ def _check_consistency(config: Mapping) -> None:
         raise ConfigError(
             f"geometry.H = {geo['H']!r} is not allowed: must be at most geometry.R = {geo['R']!r} (a cap is at most a half-disc)"
         )
+    fr = config["friction"]
+    g_cut = fr["g_cut_DI_over_g_max"] * g_reg_limit  # in units of g_eq
+    if fr["model"] == "DI" and g_cut <= g_reg:
+        raise ConfigError(
+            f"friction.g_cut_DI_over_g_max = {fr['g_cut_DI_over_g_max']!r} is not allowed with adhesion.g_reg_over_g_eq = "
+            f"{g_reg!r}: the DI cut-off gap must lie above the regularization gap (g_cut_DI_over_g_max > {g_reg / g_reg_limit:.5f})"
+        )
+    # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
+    R, H = geo["R"], geo["H"]
+    arc = 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
+    bound = config["adhesion"]["T_max"] / config["material"]["E"] * arc
+    preload = config["loading"]["preload"]
+    if not config["contact"]["repulsion_only"] and preload > bound:
+        raise ConfigError(
+            f"loading.preload = {preload!r} is not allowed: beyond pull-off for sure (adhesion cannot carry more than "
+            f"T_max/E x top-surface length = {bound:.4g})"
+        )
+    if config["contact"]["repulsion_only"] and preload > 0.0:
+        raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: a tensile preload needs adhesion")
 
 
 def validate(config: Mapping) -> dict:
