@@ -213,7 +213,11 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
 
 def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=None, snapshot_ubar=(),
           on_snapshot=None) -> PathResult:
-    """Slide the substrate from ubar = 0 to ubar_max at the fixed normal force (the last record's Fn)."""
+    """Slide the substrate from ubar = 0 to ubar_max at the fixed normal force (the last record's Fn).
+
+    With ``loading.stop_at_onset`` the slide ends at the onset of full
+    sliding; with ``loading.slide_back`` it returns to ubar = 0 afterwards.
+    """
     p = model.params
     L = p.loading
     Fn = L.preload
@@ -235,6 +239,15 @@ def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=No
                        step_limit=onset_step_limit)
     if res.status == "completed" and res.reason:
         res.reason = f"slide: stopped at the onset of full sliding, ubar = {records[-1].ubar:.6g}"
+    elif res.status == "completed" and L.slide_back and L.ubar_max != 0.0:
+        back = continuation(model, res.x, lambda ubar: SlideAtForce(ubar, Fn), L.ubar_max, 0.0, L.slide_step, "slide",
+                            records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
+                            stop=stop, step_limit=onset_step_limit)
+        back.cutbacks += res.cutbacks
+        back.min_step = min(back.min_step, res.min_step)
+        if back.reason:
+            back.reason = back.reason.replace("slide:", "slide back:", 1)
+        return back
     return res
 
 

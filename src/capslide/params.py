@@ -165,6 +165,7 @@ class Loading:
     max_slide_step: float  # L0
     min_slide_step: float  # L0
     stop_at_onset: bool = False  # end the slide at the onset of full sliding
+    slide_back: bool = False  # after ubar_max, slide back to ubar = 0
 
 
 @dataclass(frozen=True)
@@ -239,6 +240,7 @@ class Parameters:
                 retract_from=float(load["retract_from"]),
                 slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
                 min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
+                slide_back=bool(load["slide_back"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),
