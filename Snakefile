@@ -22,6 +22,7 @@ include: "workflow/rules/cases.smk"
 include: "workflow/rules/verification.smk"
 include: "workflow/rules/collect.smk"
 include: "workflow/rules/cap_figures.smk"
+include: "workflow/rules/stability.smk"
 
 
 rule all:

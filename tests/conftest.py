@@ -1,3 +1,6 @@
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -17,3 +20,23 @@ def paper_config() -> dict:
 @pytest.fixture(scope="session")
 def paper(paper_config) -> Parameters:
     return Parameters.from_config(paper_config)
+
+
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+
+
+@pytest.fixture()
+def workdir(tmp_path):
+    """A scratch copy of the workflow (Snakefile, rules, configs, sources, profiles)."""
+    for name in ("Snakefile", "workflow", "config", "src", "profiles"):
+        src = ROOT / name
+        if src.is_dir():
+            shutil.copytree(src, tmp_path / name, symlinks=True, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy(src, tmp_path / name)
+    return tmp_path
+
+
+def snakemake(workdir, *args):
+    """Run Snakemake on 2 cores in ``workdir``; the completed process."""
+    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True)

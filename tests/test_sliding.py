@@ -165,3 +165,23 @@ def test_stop_at_onset_ends_on_the_onset_step(paper_config, di_case):
     assert short.scalars["peak_Ft"] == pytest.approx(full.scalars["peak_Ft"], rel=1e-12)
     n = len(short.records)
     np.testing.assert_array_equal([r.Ft for r in short.records], [r.Ft for r in full.records[:n]])
+
+
+def test_hopeless_newton_ends_diverged_with_the_last_state(tmp_path):
+    """Newton allowed too few iterations once contact forms: bounded cut-backs, status diverged, the converged
+    history up to there is written, exit code 4."""
+    import subprocess
+    import sys
+
+    import xarray as xr
+
+    from conftest import PAPER_CONFIG
+
+    out = tmp_path / "diverged.nc"
+    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), *sum((["--set", s] for s in COARSE), []),
+                          "--set", "loading.max_cutbacks=3", "--set", "solver.newton_max_iterations=3",
+                          "-q", "-o", str(out)], capture_output=True, text=True, timeout=600)
+    assert res.returncode == 4, res.stderr
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "diverged" and "more than 3 cut-backs" in ds.attrs["status_reason"]
+        assert ds.attrs["cutbacks"] == 4 and ds.sizes["step"] >= 1  # the converged steps before the failure

@@ -2,34 +2,12 @@
 
 import os
 import re
-import shutil
 import signal
 import subprocess
-import sys
 import time
 import warnings
-from pathlib import Path
 
-import pytest
-
-from conftest import ROOT
-
-SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-
-
-@pytest.fixture()
-def workdir(tmp_path):
-    for name in ("Snakefile", "workflow", "config", "src", "profiles"):
-        src = ROOT / name
-        if src.is_dir():
-            shutil.copytree(src, tmp_path / name, symlinks=True, ignore=shutil.ignore_patterns("__pycache__"))
-        else:
-            shutil.copy(src, tmp_path / name)
-    return tmp_path
-
-
-def snakemake(workdir, *args):
-    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True)
+from conftest import SNAKEMAKE, snakemake
 
 
 def test_dry_run_is_clean(workdir):

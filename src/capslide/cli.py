@@ -230,6 +230,113 @@ def cmd_collect(args) -> int:
     return 0
 
 
+def _read_spec(path: str) -> dict:
+    import yaml
+
+    from .stability import validate_spec
+
+    try:
+        spec = yaml.safe_load(Path(path).read_text())
+        validate_spec(spec)
+    except OSError as err:
+        raise InputError(f"cannot read '{path}': {err.strerror}") from None
+    except (yaml.YAMLError, ValueError) as err:
+        raise InputError(f"{path}: {str(err).splitlines()[0]}") from None
+    return spec
+
+
+def _case_arrays(path: Path) -> dict:
+    """Step arrays and attributes of a case file that the stability checks use."""
+    ds = _open_netcdf(path)
+    a = {k: ds[k].values for k in ("phase", "ubar", "Fn", "Ft", "area", "base_force_x", "base_force_y",
+                                   "newton_iterations", "krylov_iterations")}
+    at = ds.attrs
+    a.update(status=str(at.get("status")), cutbacks=int(at.get("cutbacks", 0)), min_step=float(at.get("min_step", np.nan)),
+             wall_time=float(at.get("case_wall_time", np.nan)),
+             tau_DI=float(at["friction.mu_DI"]) * float(at["adhesion.T_max"]) / float(at["material.E"]))
+    return a
+
+
+def cmd_overrides(args) -> int:
+    """Print the --set options of one hard case of a stability spec (used by the workflow)."""
+    from .stability import case_overrides, pull_off_force
+
+    spec = _read_spec(args.spec)
+    if args.case not in spec["cases"]:
+        raise InputError(f"case '{args.case}' is not in {args.spec} (cases: {', '.join(spec['cases'])})")
+    pull_off = None
+    if args.pull_off:
+        a = _case_arrays(Path(args.pull_off))
+        pull_off = pull_off_force(a["phase"], a["Fn"])
+    try:
+        sets = case_overrides(spec, args.case, pull_off)
+    except ValueError as err:
+        raise InputError(str(err)) from None
+    print(" ".join(f"--set {s}" for s in sets))
+    return 0
+
+
+def cmd_stability(args) -> int:
+    """Evaluate the hard cases of a stability spec from their case files; write the table (CSV, Markdown)."""
+    import csv
+    import io
+
+    from .stability import TABLE_COLUMNS, case_overrides, check, markdown_table, pull_off_force
+
+    spec = _read_spec(args.spec)
+    outputs = _check_outputs(args.output, {"csv", "md"})
+    cases_dir = Path(args.cases)
+    bound = float(spec.get("time_bound_s", np.inf))
+    rows, arrays = [], {}
+    for name, case in spec["cases"].items():
+        row = {"case": name, "what": case.get("what", ""), "expected": case["expect"], "time_bound_s": bound,
+               "check": case.get("check", "none")}
+        if case["expect"] == "rejected":
+            try:
+                load_config(args.configs, case_overrides(spec, name))
+                row.update(status="accepted", passed=False)
+            except ConfigError as err:
+                row.update(status="rejected", check="config_error", check_value=str(err).split(":")[0], passed=True)
+            rows.append(row)
+            continue
+        path = cases_dir / f"{name}.nc"
+        if not path.is_file():
+            raise InputError(f"case file '{path}' does not exist (run: snakemake --cores 2 stability)")
+        a = arrays[name] = _case_arrays(path)
+        fb, fb_ok = check("force_balance", a)
+        value, ok = check(row["check"], a) if row["check"] != "none" else (np.nan, True)
+        row.update(status=a["status"], steps=len(a["phase"]), cutbacks=a["cutbacks"], min_step=a["min_step"],
+                   newton_iterations=int(a["newton_iterations"].sum()), krylov_iterations=int(a["krylov_iterations"].sum()),
+                   wall_time_s=round(a["wall_time"], 1), force_balance=fb, check_value=value,
+                   passed=bool(a["status"] == case["expect"] and fb_ok and ok and a["wall_time"] <= bound))
+        rows.append(row)
+    if "pull_off" in arrays:
+        print(f"pull-off force: {pull_off_force(arrays['pull_off']['phase'], arrays['pull_off']['Fn']):.6g} E L0 W")
+    for out in outputs:
+        if out.suffix == ".md":
+            text = markdown_table(rows)
+        else:
+            buf = io.StringIO()
+            writer = csv.DictWriter(buf, fieldnames=TABLE_COLUMNS, lineterminator="\n")
+            writer.writeheader()
+            writer.writerows([{k: r.get(k, "") for k in TABLE_COLUMNS} for r in rows])
+            text = buf.getvalue()
+        _write_text_atomic(out, text)
+    failed = [r["case"] for r in rows if not r["passed"]]
+    print(f"{len(rows) - len(failed)} of {len(rows)} hard cases as expected" + (f"; not: {', '.join(failed)}" if failed else ""))
+    return 0
+
+
+def _write_text_atomic(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
 def cmd_inspect(args) -> int:
     """Print parameters, status and case scalars of a case file as a table."""
     import xarray as xr
@@ -324,6 +431,19 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
     p.add_argument("file", metavar="CASE.nc")
     p.set_defaults(func=cmd_inspect)
+
+    p = sub.add_parser("stability", help="evaluate the hard cases of a stability spec, write the table (.csv/.md)")
+    p.add_argument("spec", metavar="SPEC.yaml", help="the suite (config/stability.yaml)")
+    p.add_argument("configs", nargs="+", metavar="CONFIG", help="base config file(s) of the cases")
+    p.add_argument("--cases", required=True, metavar="DIR", help="directory with one <case>.nc per hard case")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="table.csv / table.md")
+    p.set_defaults(func=cmd_stability)
+
+    p = sub.add_parser("stability-overrides", help="print the --set options of one hard case (used by the workflow)")
+    p.add_argument("spec", metavar="SPEC.yaml")
+    p.add_argument("case")
+    p.add_argument("--pull-off", metavar="CASE.nc", help="case file whose pull-off force sets pull_off_fraction preloads")
+    p.set_defaults(func=cmd_overrides)
 
     p = sub.add_parser("vtk", help="export the field snapshots of a case file for ParaView (.vtu series + .pvd)")
     p.add_argument("file", metavar="CASE.nc")

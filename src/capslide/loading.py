@@ -143,6 +143,9 @@ def continuation(
         if not res.converged:
             cutbacks += 1
             step *= 0.5
+            if cutbacks > model.params.loading.max_cutbacks:
+                return PathResult(records, x, "diverged", f"{phase}: more than {model.params.loading.max_cutbacks} "
+                                  f"cut-backs, stopped at {value:.6g} ({res.reason})", smallest, cutbacks)
             if step < min_step:
                 return PathResult(records, x, "diverged", f"{phase}: step below minimum {min_step:g} at "
                                   f"{value:.6g} ({res.reason})", smallest, cutbacks)

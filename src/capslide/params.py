@@ -166,6 +166,7 @@ class Loading:
     min_slide_step: float  # L0
     stop_at_onset: bool = False  # end the slide at the onset of full sliding
     slide_back: bool = False  # after ubar_max, slide back to ubar = 0
+    max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
 
 
 @dataclass(frozen=True)
@@ -240,7 +241,7 @@ class Parameters:
                 retract_from=float(load["retract_from"]),
                 slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
                 min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
-                slide_back=bool(load["slide_back"]),
+                slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),

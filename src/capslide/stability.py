@@ -25,7 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CHECKS", "CaseSummary", "summarize", "check", "pull_off_force", "TABLE_COLUMNS", "markdown_table"]
+__all__ = ["CHECKS", "CaseSummary", "summarize", "check", "pull_off_force", "TABLE_COLUMNS", "markdown_table",
+           "case_overrides", "validate_spec", "EXPECTED"]
+
+EXPECTED = ("completed", "detached", "diverged", "rejected")
 
 SLIDE = 2  # phase flag of the slide (results.PHASE_FLAGS)
 PRELOAD = 1
@@ -48,6 +51,33 @@ def summarize(status: str, newton: np.ndarray, krylov: np.ndarray, cutbacks: int
               wall_time: float) -> CaseSummary:
     return CaseSummary(status, len(newton), int(cutbacks), float(min_step), int(np.sum(newton)), int(np.sum(krylov)),
                        float(wall_time))
+
+
+def validate_spec(spec: dict) -> None:
+    """Raise ValueError naming the first bad entry of a stability spec (config/stability.yaml)."""
+    if not isinstance(spec, dict) or not isinstance(spec.get("cases"), dict) or not spec["cases"]:
+        raise ValueError("the spec needs a non-empty mapping 'cases'")
+    for name, case in spec["cases"].items():
+        if not isinstance(case, dict):
+            raise ValueError(f"cases.{name} must be a mapping")
+        if case.get("expect") not in EXPECTED:
+            raise ValueError(f"cases.{name}.expect = {case.get('expect')!r} is not allowed (allowed: {', '.join(EXPECTED)})")
+        if case.get("check", "none") not in (*CHECKS, "none"):
+            raise ValueError(f"cases.{name}.check = {case.get('check')!r} is not allowed (allowed: {', '.join(CHECKS)}, none)")
+        if "pull_off_fraction" in case and "pull_off" not in spec["cases"]:
+            raise ValueError(f"cases.{name}.pull_off_fraction needs a case named 'pull_off'")
+
+
+def case_overrides(spec: dict, name: str, pull_off: float | None = None) -> list[str]:
+    """The ``key=value`` overrides of one hard case: the spec's base, then the case's own, then the preload
+    as a fraction of ``pull_off`` when the case asks for it."""
+    case = spec["cases"][name]
+    sets = {**spec.get("base", {}), **case.get("set", {})}
+    if "pull_off_fraction" in case:
+        if pull_off is None or not math.isfinite(pull_off):
+            raise ValueError(f"case {name} needs the pull-off force (from the case 'pull_off')")
+        sets["loading.preload"] = round(float(case["pull_off_fraction"]) * pull_off, 6)
+    return [f"{k}={str(v).lower() if isinstance(v, bool) else v}" for k, v in sets.items()]
 
 
 def pull_off_force(phase: np.ndarray, Fn: np.ndarray) -> float:
