@@ -201,12 +201,28 @@ def cmd_run(args) -> int:
     from .case import run_case
     from .results import case_dataset, write_netcdf
 
+    import yaml
+
+    from .checkpoint import CheckpointError, Checkpointer, checkpoint_path
+
     params = _parameters(args)
     (output,) = _check_outputs([args.output], {"nc"})
-    result = run_case(params, progress=None if args.quiet else _progress_printer())
+    output.parent.mkdir(parents=True, exist_ok=True)
+    config_text = yaml.safe_dump(params.config, sort_keys=True)
+    every = int(params.config["output"]["checkpoint_every"])
+    path = checkpoint_path(output)
+    ckpt = Checkpointer(path if every else None, config_text, every)
+    if args.resume and path.is_file():
+        try:
+            ckpt = Checkpointer.load(path, config_text, every)
+            print(f"capslide: resuming from {path} ({len(ckpt.records)} converged steps)", file=sys.stderr)
+        except CheckpointError as err:
+            print(f"capslide: {err}; starting afresh", file=sys.stderr)
+    result = run_case(params, progress=None if args.quiet else _progress_printer(), ckpt=ckpt)
     if not args.quiet and sys.stderr.isatty():
         sys.stderr.write("\n")
     write_netcdf(case_dataset(result), output)
+    ckpt.remove()
     s = result.scalars
     print(f"{output}: {result.status}{' (' + result.reason + ')' if result.reason else ''}; {len(result.records)} steps, "
           f"{result.wall_time:.1f} s; peak Ft = {s['peak_Ft']:.6g}, onset ubar = {s['onset_ubar']:.6g}")
@@ -414,6 +430,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_config_args(p)
     p.add_argument("-o", "--output", required=True, metavar="CASE.nc")
     p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
+    p.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint a killed run left beside CASE.nc (output.checkpoint_every)")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")

@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 
 from . import contact
+from .checkpoint import Checkpointer, ContinuationState
 from .interface import STICK, interval_measures
 from .mesh import H0_AT_SIZE_1
 from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
@@ -105,6 +106,7 @@ def continuation(
     breakpoints: tuple[float, ...] = (),
     on_breakpoint: Callable[[float, np.ndarray], None] | None = None,
     step_limit: Callable[[list[StepRecord], float], float] | None = None,
+    ckpt: Checkpointer | None = None,
 ) -> PathResult:
     """Adaptive continuation of the load parameter from ``start`` to ``end``.
 
@@ -112,8 +114,28 @@ def continuation(
     ``stop(record)`` may end the phase early with a status ("detached").
     Steps end exactly on every value in ``breakpoints``, where
     ``on_breakpoint(value, x)`` is called. ``step_limit(records, value)``
-    may cap the next step.
+    may cap the next step. With a checkpointer ``ckpt`` the stage is
+    numbered, saved every few steps, and replayed or resumed on a restart.
     """
+    if ckpt is None:
+        return _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress,
+                             stop, breakpoints, on_breakpoint, step_limit, None, None)
+    stage, mode = ckpt.begin_stage()
+    if mode == "done":
+        status, reason, cutbacks, smallest, x_end = ckpt.finished[stage]
+        return PathResult(records, x_end, status, reason, smallest, cutbacks)
+    resume = None
+    if mode == "resume":
+        resume = ckpt.resume_state
+        model.contact.anchors = None if ckpt.anchors is None else ckpt.anchors.copy()
+    res = _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress, stop,
+                        breakpoints, on_breakpoint, step_limit, ckpt, resume)
+    ckpt.end_stage(res.status, res.reason, res.cutbacks, res.min_step, res.x)
+    return res
+
+
+def _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress, stop,
+                  breakpoints, on_breakpoint, step_limit, ckpt, resume: ContinuationState | None) -> PathResult:
     direction = 1.0 if end >= start else -1.0
     value, step = start, min(abs(first_step), max_step)
     x_prev, value_prev = None, None
@@ -122,6 +144,10 @@ def continuation(
     tol = 1e-12 * max(1.0, abs(end))
     pending = sorted((b for b in breakpoints if direction * (b - start) > tol and direction * (end - b) >= -tol),
                      key=lambda b: direction * b)
+    if resume is not None:
+        value, step, x, x_prev = resume.value, resume.step, resume.x.copy(), resume.x_prev
+        value_prev, smallest, cutbacks, pending = resume.value_prev, resume.smallest, resume.cutbacks, list(resume.pending)
+        direction = 1.0 if end >= value else -1.0
     while direction * (end - value) > tol:
         step = min(step, abs(end - value))
         if step_limit is not None:
@@ -167,10 +193,13 @@ def continuation(
             return PathResult(records, x, status, f"{phase}: {status} at {value:.6g}", smallest, cutbacks)
         if res.iterations <= 4:
             step = min(step * 1.5, max_step)
+        if ckpt is not None:
+            ckpt.after_step(lambda: ContinuationState(value, step, x, x_prev, value_prev, smallest, cutbacks, list(pending)),
+                            model.solver, model.contact.anchors)
     return PathResult(records, x, "completed", "", smallest, cutbacks)
 
 
-def approach_and_preload(model: CapModel, progress=None) -> PathResult:
+def approach_and_preload(model: CapModel, progress=None, ckpt: Checkpointer | None = None) -> PathResult:
     """Approach from above the apex, then ramp Fn to the target preload.
 
     Tensile targets are reached by retracting from a compressed state
@@ -178,18 +207,19 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
     """
     p = model.params
     a, L = p.adhesion, p.loading
-    records: list[StepRecord] = []
+    records: list[StepRecord] = ckpt.records if ckpt is not None else []
     x = np.zeros(model.n_dofs + 1)
     x[-1] = p.geometry.H + L.approach_start_gap
     # 1. approach: apex gap from the start gap down to the end gap (default g_eq)
     res = continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach", records,
-                       min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress)
+                       min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress, ckpt=ckpt)
     if res.status != "completed":
         return res
     x, cut, smallest = res.x, res.cutbacks, res.min_step
     # 2. preload: force control to the target (through a compressed state for tensile targets)
     targets = [L.preload]
-    if L.preload > 0.0 and L.retract_from < min(records[-1].Fn, L.preload):
+    approach_Fn = [r for r in records if r.phase == "approach"][-1].Fn  # (records may run further on a resume)
+    if L.preload > 0.0 and L.retract_from < min(approach_Fn, L.preload):
         targets = [L.retract_from, L.preload]
     min_area = 2.0 * H0_AT_SIZE_1 * p.mesh.size
 
@@ -200,7 +230,7 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
         retracting = target > records[-1].Fn  # only a retraction can pull the contact off
         res = continuation(model, x, FixedForce, records[-1].Fn, target, L.force_step, "preload", records,
                            min_step=L.min_force_step, max_step=L.force_step, progress=progress,
-                           stop=detached if retracting else None)
+                           stop=detached if retracting else None, ckpt=ckpt)
         cut += res.cutbacks
         smallest = min(smallest, res.min_step)
         if res.status == "diverged" and target > records[-1].Fn and target > 0:
@@ -215,7 +245,7 @@ def approach_and_preload(model: CapModel, progress=None) -> PathResult:
 
 
 def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=None, snapshot_ubar=(),
-          on_snapshot=None) -> PathResult:
+          on_snapshot=None, ckpt: Checkpointer | None = None) -> PathResult:
     """Slide the substrate from ubar = 0 to ubar_max at the fixed normal force (the last record's Fn).
 
     With ``loading.stop_at_onset`` the slide ends at the onset of full
@@ -224,7 +254,9 @@ def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=No
     p = model.params
     L = p.loading
     Fn = L.preload
-    model.contact.start_friction(x[:-1], 0.0)
+    fresh = ckpt is None or not ckpt.replaying()  # on a resume, anchors and snapshot come from the checkpoint
+    if fresh:
+        model.contact.start_friction(x[:-1], 0.0)
     min_area = 2.0 * H0_AT_SIZE_1 * p.mesh.size
 
     def stop(rec: StepRecord) -> str | None:
@@ -234,24 +266,41 @@ def slide(model: CapModel, x: np.ndarray, records: list[StepRecord], progress=No
             return "completed"  # asked to end at the onset of full sliding
         return None
 
-    if on_snapshot is not None and any(b == 0.0 for b in snapshot_ubar):
+    if fresh and on_snapshot is not None and any(b == 0.0 for b in snapshot_ubar):
         on_snapshot(0.0, x)
     res = continuation(model, x, lambda ubar: SlideAtForce(ubar, Fn), 0.0, L.ubar_max, L.slide_step, "slide",
                        records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
                        stop=stop, breakpoints=tuple(snapshot_ubar), on_breakpoint=on_snapshot,
-                       step_limit=onset_step_limit)
-    if res.status == "completed" and res.reason:
+                       step_limit=onset_step_limit, ckpt=ckpt)
+    if res.status == "diverged" and peeling_off(records, Fn):
+        last = records[-1]
+        res.status = "detached"
+        res.reason = (f"slide: no equilibrium at Fn = {Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling off "
+                      f"(area {last.area:.4g}, shrinking, h rising)")
+    elif res.status == "completed" and res.reason:
         res.reason = f"slide: stopped at the onset of full sliding, ubar = {records[-1].ubar:.6g}"
     elif res.status == "completed" and L.slide_back and L.ubar_max != 0.0:
         back = continuation(model, res.x, lambda ubar: SlideAtForce(ubar, Fn), L.ubar_max, 0.0, L.slide_step, "slide",
                             records, min_step=L.min_slide_step, max_step=L.max_slide_step, progress=progress,
-                            stop=stop, step_limit=onset_step_limit)
+                            stop=stop, step_limit=onset_step_limit, ckpt=ckpt)
         back.cutbacks += res.cutbacks
         back.min_step = min(back.min_step, res.min_step)
         if back.reason:
             back.reason = back.reason.replace("slide:", "slide back:", 1)
         return back
     return res
+
+
+def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
+    """A slide that lost its equilibrium under a tensile load while the contact peeled: over the last ``n``
+    slide steps the contact area shrank and the substrate rose at every step. Shear-induced pull-off: the
+    contact's pull-off force fell below the applied Fn (as in the paper's experiments, where small contacts
+    vanish on shearing)."""
+    last = [r for r in records[-n:] if r.phase == "slide"]
+    if Fn <= 0.0 or len(last) < n:
+        return False
+    area, h = np.array([r.area for r in last]), np.array([r.h for r in last])
+    return bool(np.all(np.diff(area) < 0) and np.all(np.diff(h) > 0))
 
 
 def fully_sliding(rec: StepRecord) -> bool:
@@ -278,12 +327,15 @@ def onset_step_limit(records: list[StepRecord], ubar: float, tolerance: float = 
     return max(0.5 * abs(u_onset - ubar), tolerance * abs(ubar))
 
 
-def run_load_path(model: CapModel, progress=None, snapshot_ubar=(), on_snapshot=None) -> PathResult:
-    """Approach, preload and slide; the result carries every converged step."""
-    res = approach_and_preload(model, progress)
+def run_load_path(model: CapModel, progress=None, snapshot_ubar=(), on_snapshot=None,
+                  ckpt: Checkpointer | None = None) -> PathResult:
+    """Approach, preload and slide; the result carries every converged step.
+
+    With a checkpointer the path is saved every few steps (and resumed from a loaded checkpoint)."""
+    res = approach_and_preload(model, progress, ckpt)
     if res.status != "completed" or model.params.loading.ubar_max == 0.0:
         return res
-    res2 = slide(model, res.x, res.records, progress, snapshot_ubar, on_snapshot)
+    res2 = slide(model, res.x, res.records, progress, snapshot_ubar, on_snapshot, ckpt)
     res2.cutbacks += res.cutbacks
     res2.min_step = min(res.min_step, res2.min_step)
     return res2

@@ -42,4 +42,4 @@ rule run_case:
         mem_mb=4000,
         runtime=120,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " run " + CONFIG_ARGS + " {params.overrides} -o {output} > {log} 2>&1"
+        THREADS_ENV + " " + CAPSLIDE + " run --resume " + CONFIG_ARGS + " {params.overrides} -o {output} > {log} 2>&1"
