@@ -38,7 +38,7 @@ def uninterrupted(setup, tmp_path_factory):
     return run_case(params, ckpt=Checkpointer(tmp_path_factory.mktemp("full") / "ckpt", text, every=7))
 
 
-@pytest.mark.parametrize("kill_after", [30, 95], ids=["preload", "slide-back"])
+@pytest.mark.parametrize("kill_after", [30, 95], ids=["step30", "step95"])
 def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path, kill_after):
     params, text = setup
     path = tmp_path / "ckpt"
