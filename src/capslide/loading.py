@@ -25,7 +25,7 @@ from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
 from .newton import NewtonOptions, newton
 
 __all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload", "slide",
-           "run_load_path", "sliding_onset", "fully_sliding"]
+           "run_load_path", "sliding_onset", "fully_sliding", "peeling_off"]
 
 PHASES = ("approach", "preload", "slide")
 
