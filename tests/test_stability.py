@@ -75,7 +75,8 @@ base: {mesh.size: 32, loading.ubar_max: 2.0, loading.max_slide_step: 0.2, output
 time_bound_s: 300
 cases:
   pull_off: {set: {loading.preload: 1.0, loading.ubar_max: 0.0}, expect: detached, check: pull_off}
-  tensile_90: {pull_off_fraction: 0.9, set: {}, expect: completed, check: di_tau_area}
+  tensile_70: {pull_off_fraction: 0.7, set: {}, expect: completed, check: di_tau_area}
+  shear_detach: {pull_off_fraction: 0.99, set: {}, expect: detached, check: detached_while_sliding}
   EA0_tensile: {set: {friction.model: EA, friction.s_cut: 0.0, loading.preload: 0.144}, expect: completed,
                 check: force_balance}
   slide_back: {set: {loading.slide_back: true, loading.ubar_max: 3.0}, expect: completed, check: closed_loop}
