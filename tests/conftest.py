@@ -1,4 +1,5 @@
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -35,6 +36,11 @@ def workdir(tmp_path):
         else:
             shutil.copy(src, tmp_path / name)
     return tmp_path
+
+
+def default_sigint():
+    """preexec_fn for test subprocesses: SIGINT as on a terminal (a background test run inherits it ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def snakemake(workdir, *args):

@@ -14,7 +14,7 @@ from capslide.case import run_case
 from capslide.checkpoint import CheckpointError, Checkpointer
 from capslide.config import apply_overrides, validate
 from capslide.params import Parameters
-from conftest import PAPER_CONFIG
+from conftest import PAPER_CONFIG, default_sigint
 
 COARSE = ["mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
           "loading.slide_back=true"]
@@ -90,7 +90,7 @@ def test_cli_resume_after_ctrl_c(tmp_path):
     assert ref.returncode == 0, ref.stderr
     out, ckpt = tmp_path / "case.nc", tmp_path / ".case.nc.checkpoint"
     log = open(tmp_path / "log", "w")
-    proc = subprocess.Popen([*cmd, "-o", str(out)], stderr=log, stdout=log)
+    proc = subprocess.Popen([*cmd, "-o", str(out)], stderr=log, stdout=log, preexec_fn=default_sigint)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and "slide" not in (tmp_path / "log").read_text():
         time.sleep(0.1)

@@ -7,7 +7,7 @@ import subprocess
 import time
 import warnings
 
-from conftest import SNAKEMAKE, snakemake
+from conftest import SNAKEMAKE, default_sigint, snakemake
 
 
 def test_dry_run_is_clean(workdir):
@@ -81,7 +81,8 @@ def test_smoke_workflow_end_to_end(workdir):
 
     # an interrupted run (Ctrl-C during the case) leaves no partial file; the rerun completes
     proc = subprocess.Popen([str(SNAKEMAKE), "--cores", "2", "--configfile", "config/smoke.yaml"], cwd=workdir,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+                            preexec_fn=default_sigint)
     log = workdir / "logs" / "cases" / "EA0_Fn+0.000.log"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and not (log.exists() and "slide" in log.read_text()):
