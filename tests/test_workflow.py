@@ -16,6 +16,13 @@ def test_dry_run_is_clean(workdir):
     assert "Warning" not in res.stdout + res.stderr
 
 
+def test_slurm_profile_parses(workdir):
+    """The cluster profile loads (executor plugin installed, resources valid) without a cluster: a dry run."""
+    res = snakemake(workdir, "--profile", "profiles/slurm", "-n")
+    assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
+    assert "This was a dry-run" in res.stdout + res.stderr
+
+
 def test_model_figures_render(workdir):
     res = snakemake(workdir, "results/figures/Tn.png", "results/figures/exp_FnJKR.pdf")
     assert res.returncode == 0, res.stdout + res.stderr
