@@ -19,7 +19,6 @@ it is removed when the case file has been written.
 
 from __future__ import annotations
 
-import os
 import pickle
 import time
 from dataclasses import dataclass, field
@@ -29,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
+from .atomic import replacing
 
 __all__ = ["ContinuationState", "Checkpointer", "checkpoint_path", "CheckpointError"]
 
@@ -121,13 +121,8 @@ class Checkpointer:
         data = {"version": __version__, "config_yaml": self.config_yaml, "stage": self.stage, "state": state_of(),
                 "finished": self.finished, "records": self.records, "snapshots": self.snapshots, "anchors": anchors,
                 "elapsed": self.wall_time()}
-        tmp = self.path.with_name(self.path.name + ".tmp")
-        try:
-            with open(tmp, "wb") as f:
-                pickle.dump(data, f, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(tmp, self.path)
-        finally:
-            tmp.unlink(missing_ok=True)
+        with replacing(self.path) as tmp, open(tmp, "wb") as f:
+            pickle.dump(data, f, protocol=pickle.HIGHEST_PROTOCOL)
 
     def wall_time(self) -> float:
         return self.elapsed + time.perf_counter() - self._t0

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import signal
 import sys
 import tempfile
@@ -19,6 +18,7 @@ from typing import Sequence
 import numpy as np
 
 from . import __version__
+from .atomic import replacing
 from .config import ConfigError, load_config
 from .params import Parameters
 
@@ -345,13 +345,8 @@ def cmd_stability(args) -> int:
 
 
 def _write_text_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
+    with replacing(path) as tmp:
         tmp.write_text(text)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def cmd_inspect(args) -> int:
@@ -392,15 +387,12 @@ def cmd_verify(args) -> int:
     rows = sweep(params, args.scene, progress=None if args.quiet else _progress_printer())
     if not args.quiet and sys.stderr.isatty():
         sys.stderr.write("\n")
-    output.parent.mkdir(parents=True, exist_ok=True)
-    tmp = output.with_name(f".{output.name}.tmp")
-    with open(tmp, "w", newline="") as fh:
+    with replacing(output) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scene", "quantity", "load_P", "fe", "theory", "rel_error", "extra"])
         for r in rows:
             w.writerow([r.scene, r.quantity, f"{r.load:.8g}", f"{r.fe:.8g}", f"{r.theory:.8g}", f"{r.rel_error:.6g}",
                         ";".join(f"{k}={v}" for k, v in r.extra.items())])
-    os.replace(tmp, output)
     for r in rows:
         print(f"{r.scene:6s} {r.quantity:20s} P={r.load:+.4f} fe={r.fe:.6g} theory={r.theory:.6g} rel={r.rel_error:+.4f}")
     return 0

@@ -12,7 +12,6 @@ keyword defaults.
 from __future__ import annotations
 
 import contextlib
-import os
 from pathlib import Path
 from typing import Callable, Iterator
 
@@ -23,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import analytic, contact  # noqa: E402
+from .atomic import replacing  # noqa: E402
 from .mesh import Mesh  # noqa: E402
 from .params import Adhesion, Parameters, JKRSphereExperiment, PDMS_SPHERE  # noqa: E402
 
@@ -70,13 +70,8 @@ def journal_style() -> Iterator[None]:
 def save(fig, paths) -> None:
     """Write ``fig`` to every path (format from the suffix), atomically; then close it."""
     for path in map(Path, paths):
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp")
-        try:
+        with replacing(path) as tmp:
             fig.savefig(tmp, format=path.suffix.lstrip("."))
-            os.replace(tmp, path)
-        finally:
-            tmp.unlink(missing_ok=True)
     plt.close(fig)
 
 

@@ -8,7 +8,6 @@ the configuration as YAML text and every parameter flattened to
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -17,6 +16,7 @@ import xarray as xr
 import yaml
 
 from . import __version__
+from .atomic import replacing
 from .config import flatten
 from .mesh import Mesh
 
@@ -57,15 +57,10 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     compress to almost nothing.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
     encoding = {name: {"zlib": True, "complevel": 4, "shuffle": True}
                 for name, var in ds.variables.items() if var.dtype.kind in "fiub" and var.ndim > 0}
-    try:
+    with replacing(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
     return path
 
 

@@ -13,11 +13,12 @@ ParaView's time slider steps through the slide. Files are written atomically.
 from __future__ import annotations
 
 import base64
-import os
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
+
+from .atomic import replacing
 
 __all__ = ["VTK_CELL_TYPES", "write_vtu", "write_pvd", "write_snapshot_series"]
 
@@ -35,12 +36,8 @@ def _data_array(name: str, values: np.ndarray, components: int = 1) -> str:
 
 
 def _write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
+    with replacing(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def write_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray, point_vectors: dict[str, np.ndarray],
