@@ -23,6 +23,7 @@ include: "workflow/rules/verification.smk"
 include: "workflow/rules/collect.smk"
 include: "workflow/rules/cap_figures.smk"
 include: "workflow/rules/stability.smk"
+include: "workflow/rules/convergence.smk"
 
 
 rule all:

@@ -109,3 +109,17 @@ def test_energy_convergence_rate(element, sizes, expected):
     slope = np.polyfit(np.log(sizes[:-1]), np.log(diffs), 1)[0]
     print(element, energies, "fitted order", slope)
     assert slope == pytest.approx(expected, abs=0.35)
+
+
+def test_deformation_gradient_cache_follows_the_state(distorted):
+    """The cached F is recomputed when u changes, also in place, and cannot be modified by a caller."""
+    form = BulkForm(distorted, 1.0, 1.0)
+    u = 0.01 * np.random.default_rng(7).normal(size=distorted.n_dofs)
+    F1 = form.deformation_gradient(u)
+    assert form.deformation_gradient(u) is F1
+    u[::3] += 0.02
+    F2 = form.deformation_gradient(u)
+    np.testing.assert_array_equal(F2, BulkForm(distorted, 1.0, 1.0).deformation_gradient(u))
+    assert not np.allclose(F1, F2)
+    with pytest.raises(ValueError):
+        F2[0, 0, 0, 0] = 5.0

@@ -45,6 +45,8 @@ BAD_INPUT = [
     (["--set", "contact.repulsion_only=true", "--set", "loading.preload=0.1"], ["loading.preload", "repulsion_only"]),
     (["--set", "solver.linear=cholmod"], ["solver.linear", "'cholmod'", "amg, lu_krylov, direct"]),
     (["--set", "output.snapshot_ubar=1.0"], ["output.snapshot_ubar", "array"]),
+    (["--set", "preset=slow"], ["preset", "'slow'", "fast, paper, reference"]),
+    (["--set", "presets.paper.mesh.size=2"], ["presets.paper.mesh", "dotted"]),
 ]
 
 

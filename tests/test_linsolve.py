@@ -109,3 +109,34 @@ def test_lu_krylov_reuses_factorization(cap_system):
 def test_unknown_solver():
     with pytest.raises(ValueError, match="allowed"):
         make_solver("magic")
+
+
+def test_bordered_solve_matches_the_assembled_bordered_system(cap_system):
+    """One GMRES run on [A c; d^T e] (stored LU of a nearby A as preconditioner) equals a direct solve of the
+    assembled (n+1) system; the Schur-complement path of a solver without solve_bordered agrees."""
+    from capslide.model import _BorderedSolve
+
+    mesh, A, b, bc = cap_system
+    rng = np.random.default_rng(4)
+    n = A.shape[0]
+    c, d = rng.normal(size=n), rng.normal(size=n)
+    c[bc.dofs] = d[bc.dofs] = 0.0
+    e = 5.0 + abs(d @ c)
+    rhs = np.concatenate([b, [0.3]])
+    J = sp.bmat([[A, sp.csr_matrix(c[:, None])], [sp.csr_matrix(d[None, :]), sp.csr_matrix([[e]])]]).tocsc()
+    exact = sp.linalg.spsolve(J, rhs)
+    solver = LUKrylovSolver(rtol=1e-10)
+    solver.solve(A, b)  # factorize A
+    A2 = (A * 1.0).tocsr()
+    A2.data *= 1.0 + 0.01 * rng.uniform(size=A2.nnz)
+    J2 = sp.bmat([[A2, sp.csr_matrix(c[:, None])], [sp.csr_matrix(d[None, :]), sp.csr_matrix([[e]])]]).tocsc()
+    exact2 = sp.linalg.spsolve(J2, rhs)
+    x, info = solver.solve_bordered(A2, c, d, e, rhs)
+    one = LUKrylovSolver(rtol=1e-10, max_iterations_before_refactor=100)
+    one.solve(A, b)
+    _, single = one.solve(A2, b)  # one right-hand side, same stored factors
+    assert not info.rebuilt and 0 < info.iterations <= single.iterations + 3  # costs about one Krylov solve
+    assert np.linalg.norm(x - exact2) <= 1e-8 * np.linalg.norm(exact2)
+    assert np.linalg.norm(exact2 - exact) > 1e-4 * np.linalg.norm(exact)  # the nearby matrix is a different system
+    two_solves = _BorderedSolve(DirectSolver(), A2, c, d, e)(rhs)
+    assert np.linalg.norm(two_solves - exact2) <= 1e-9 * np.linalg.norm(exact2)

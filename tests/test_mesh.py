@@ -5,7 +5,9 @@ import math
 import numpy as np
 import pytest
 
+from capslide.config import apply_overrides, validate
 from capslide.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh, cap_mesh_spec, circular_segment_area, rectangle_mesh
+from capslide.params import Parameters
 
 R, H = 47.1, 10.0
 
@@ -74,8 +76,9 @@ def test_grading(cap):
     np.testing.assert_allclose(key(X), key(X * [-1, 1]), atol=1e-9)
 
 
-def test_paper_level_cell_count(paper):
-    spec = cap_mesh_spec(paper)
+def test_paper_level_cell_count(paper_config):
+    """mesh.size 1 is the paper's 42,300-element level (the 'paper' preset is coarser, see docs/performance.md)."""
+    spec = cap_mesh_spec(Parameters.from_config(validate(apply_overrides(paper_config, ["mesh.size=1"]))))
     assert spec.h0 == H0_AT_SIZE_1
     assert 11.0 < spec.band_half_width < 12.0  # JKR zero-load half-width ~6.35 + ubar_max 5
     mesh = cap_mesh(spec)

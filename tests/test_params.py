@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from capslide.config import apply_overrides, load_config, validate
+from capslide.config import ConfigError, apply_overrides, load_config, validate
 from capslide.contact import normal_traction_unregularized
 from capslide.params import Parameters, cgcm_constants
+from conftest import PAPER_CONFIG as PAPER
 
 
 def test_paper_constants_to_four_digits(paper):
@@ -78,3 +79,20 @@ def test_overlay_files_merge(tmp_path):
     assert cfg["friction"]["model"] == "EA" and cfg["friction"]["s_cut"] == 0
     assert cfg["friction"]["mu_DI"] == 1.0  # untouched keys survive the merge
     assert cfg["loading"]["preload"] == -0.288
+
+
+def test_preset_fills_only_what_nothing_else_sets(paper_config, tmp_path):
+    """The paper's config chooses the 'paper' preset; another preset or an explicit key changes the mesh."""
+    presets = paper_config["presets"]
+    assert paper_config["preset"] == "paper" and paper_config["mesh"]["size"] == presets["paper"]["mesh.size"]
+    ref = load_config([PAPER], ["preset=reference"])
+    assert ref["mesh"]["size"] == presets["reference"]["mesh.size"] < paper_config["mesh"]["size"]
+    explicit = load_config([PAPER], ["preset=reference", "mesh.size=3"])
+    assert explicit["mesh"]["size"] == 3
+    assert validate(explicit) == explicit  # idempotent: a validated config validates to itself
+    no_preset = load_config([PAPER], ["preset=null"])
+    assert no_preset["mesh"]["size"] == 1.0  # the schema default: the paper's 42,300-element level
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("presets: {paper: {mesh.sise: 2}}\n")
+    with pytest.raises(ConfigError, match="unknown key 'mesh.sise'"):
+        load_config([PAPER, bad])

@@ -119,16 +119,27 @@ class BulkForm:
         self.wdetJ = detJ * weights  # (e, q)
         self.dNw = self.dN * self.wdetJ[..., None, None]
         self._outer_cache = None
+        self._F_cache: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh, self.lam, self.mu = mesh, lam, mu
         self.dofs = cell_dofs(mesh.cells)
         self.n_dofs = mesh.n_dofs
         self.pattern = SparsePattern.from_blocks(self.dofs, self.n_dofs)
 
     def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
-        """F = I + grad u at every quadrature point, (e, q, 2, 2)."""
+        """F = I + grad u at every quadrature point, (e, q, 2, 2), read-only.
+
+        The last result is kept: Newton's line search asks for det F (admissibility)
+        and the residual at the same trial state, then the tangent at the accepted one.
+        """
+        cached = self._F_cache
+        if cached is not None and np.array_equal(cached[0], u):
+            return cached[1]
         ue = u.reshape(-1, 2)[self.mesh.cells]  # (e, a, 2)
         # F_ij = delta_ij + sum_a u_ai dN_aj: (e, 1, 2, a) @ (e, q, a, 2)
-        return np.eye(2) + np.swapaxes(ue, 1, 2)[:, None] @ self.dN
+        F = np.eye(2) + np.swapaxes(ue, 1, 2)[:, None] @ self.dN
+        F.flags.writeable = False
+        self._F_cache = (np.array(u, copy=True), F)
+        return F
 
     def _gather(self, fe: np.ndarray) -> np.ndarray:
         return np.bincount(self.dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)

@@ -344,6 +344,88 @@ def cmd_stability(args) -> int:
     return 0
 
 
+def cmd_convergence(args) -> int:
+    """Evaluate a convergence study from its case files: table (CSV, Markdown) and error-versus-time figure."""
+    import csv
+    import io
+
+    import yaml
+
+    from .convergence import (ORDER_COLUMNS, TABLE_COLUMNS, RunResult, cheapest_within, error_rows, markdown_table,
+                              order_rows, pareto_front, quantities, study_runs)
+    from .convergence import validate_spec as validate_convergence
+
+    try:
+        spec = yaml.safe_load(Path(args.spec).read_text())
+        validate_convergence(spec)
+    except OSError as err:
+        raise InputError(f"cannot read '{args.spec}': {err.strerror}") from None
+    except (yaml.YAMLError, ValueError) as err:
+        raise InputError(f"{args.spec}: {str(err).splitlines()[0]}") from None
+    outputs = _check_outputs(args.output, {"csv", "md", "pdf", "png"})
+    if args.orders:
+        outputs += _check_outputs([args.orders], {"csv"})
+    runs = study_runs(spec)
+    results = {}
+    for r in runs:
+        key = f"{r.case}/{r.run_id}"
+        if key in results:
+            continue
+        path = Path(args.cases) / f"{key}.nc"
+        if not path.is_file():
+            raise InputError(f"case file '{path}' does not exist (run: snakemake --cores 2 convergence)")
+        ds = _open_netcdf(path)
+        q = quantities(ds["phase"].values, ds["ubar"].values, ds["Ft"].values, float(ds["peak_Ft"]),
+                       float(ds["onset_ubar"]), float(ds["onset_area"]))
+        results[key] = RunResult(str(ds.attrs.get("status")), q, float(ds.attrs.get("case_wall_time", np.nan)),
+                                 int(ds.attrs["n_dofs"]), int(ds.sizes["step"]), int(ds["newton_iterations"].sum()),
+                                 int(ds["krylov_iterations"].sum()))
+    keyed = [type(r)(r.case, r.sweep, r.value, f"{r.case}/{r.run_id}") for r in runs]
+    try:
+        rows, refs = error_rows(spec, keyed, results)
+    except ValueError as err:
+        raise InputError(str(err)) from None
+    for row in rows:
+        row["run"] = row["run"].split("/", 1)[1]
+    for case in spec["cases"]:
+        idx = [i for i, row in enumerate(rows) if row["case"] == case]
+        mask = pareto_front([rows[i]["wall_time_s"] for i in idx], [rows[i]["error"] for i in idx])
+        for i, on in zip(idx, mask):
+            rows[i]["pareto"] = bool(on)
+        ref = ", ".join(f"{q} {v:.6g} ({kind}{'' if kind == 'finest' else f', p = {p:.2f}'})"
+                        for q, (v, kind, p) in refs[case].items())
+        print(f"{case}: reference {ref}")
+    orders = order_rows(spec, rows)
+    for threshold in (0.05, 0.01):
+        best = cheapest_within(rows, threshold)
+        print(f"cheapest run with every QoI error below {threshold:.0%} in every case: "
+              + (f"{best['run']} (largest error {best['error']:.2e}, {best['wall_time_s']:.1f} s over the cases)"
+                 if best else "none"))
+
+    def csv_text(table, columns):
+        buf = io.StringIO()
+        writer = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows([{k: row.get(k, "") for k in columns} for row in table])
+        return buf.getvalue()
+
+    for out in outputs:
+        if out.suffix == ".md":
+            _write_text_atomic(out, markdown_table(rows) + "\nObserved orders (mesh-size sweeps, consecutive triplets)"
+                               ":\n\n" + markdown_table(orders, ORDER_COLUMNS))
+        elif out.suffix == ".csv":
+            is_orders = args.orders is not None and out == Path(args.orders)
+            _write_text_atomic(out, csv_text(orders, ORDER_COLUMNS) if is_orders else csv_text(rows, TABLE_COLUMNS))
+    figs = [o for o in outputs if o.suffix in (".pdf", ".png")]
+    if figs:
+        from . import figures
+
+        with figures.journal_style():
+            figures.save(figures.fig_convergence(rows), figs)
+    print(f"{len(rows)} runs of {len(results)} case files; table and figure written")
+    return 0
+
+
 def _write_text_atomic(path: Path, text: str) -> None:
     with replacing(path) as tmp:
         tmp.write_text(text)
@@ -449,6 +531,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--cases", required=True, metavar="DIR", help="directory with one <case>.nc per hard case")
     p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="table.csv / table.md")
     p.set_defaults(func=cmd_stability)
+
+    p = sub.add_parser("convergence", help="evaluate a convergence study: table (.csv/.md), error-vs-time figure (.pdf/.png)")
+    p.add_argument("spec", metavar="SPEC.yaml", help="the study (config/convergence.yaml)")
+    p.add_argument("--cases", required=True, metavar="DIR", help="directory with <case>/<run>.nc per run")
+    p.add_argument("--orders", metavar="FILE.csv", help="also write the observed convergence orders (CSV)")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE",
+                   help="table.csv / table.md / figure .pdf / .png")
+    p.set_defaults(func=cmd_convergence)
 
     p = sub.add_parser("stability-overrides", help="print the --set options of one hard case (used by the workflow)")
     p.add_argument("spec", metavar="SPEC.yaml")

@@ -2,7 +2,8 @@
 
 A configuration is a nested dict read from one or more YAML files (later
 files update earlier ones), changed by dotted-key overrides
-(``friction.s_cut=0``), then validated against ``config.schema.yaml`` (the
+(``friction.s_cut=0``), completed by the chosen numerical ``preset`` (its
+values fill only keys nothing else sets), then validated against ``config.schema.yaml`` (the
 same file Snakemake validates with). Every problem is reported as a
 :class:`ConfigError` whose message is one line naming the key, the value
 and what is allowed.
@@ -27,6 +28,7 @@ __all__ = [
     "load_yaml",
     "merge",
     "apply_overrides",
+    "apply_preset",
     "validate",
     "load_config",
     "flatten",
@@ -202,12 +204,39 @@ def _check_consistency(config: Mapping) -> None:
         raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: a tensile preload needs adhesion")
 
 
+def apply_preset(config: Mapping) -> dict:
+    """Fill the keys of the chosen ``preset`` (a name in ``presets``) that the configuration does not set."""
+    out = copy.deepcopy(dict(config))
+    name = out.get("preset")
+    if name is None:
+        return out
+    presets = out.get("presets") or {}
+    if not isinstance(presets, Mapping) or name not in presets:
+        allowed = ", ".join(map(str, presets)) if isinstance(presets, Mapping) and presets else "none defined"
+        raise ConfigError(f"preset = {name!r} is not allowed: must be one of the names in presets ({allowed})")
+    values = presets[name]
+    if not isinstance(values, Mapping):
+        raise ConfigError(f"presets.{name} must be a mapping of dotted config keys to values, got {values!r}")
+    for key, value in values.items():
+        if isinstance(value, Mapping):
+            raise ConfigError(f"presets.{name}.{key} must be a value: a preset maps dotted keys (mesh.size: 8) to values")
+        path = str(key).split(".")
+        node = out
+        for part in path[:-1]:
+            child = node.setdefault(part, {})
+            if not isinstance(child, dict):
+                raise ConfigError(f"presets.{name}: '{key}': '{part}' is a value, not a section")
+            node = child
+        node.setdefault(path[-1], copy.deepcopy(value))
+    return out
+
+
 def validate(config: Mapping) -> dict:
     """Validate against the schema, fill defaults, check cross-key rules.
 
     Returns a new, complete configuration; raises :class:`ConfigError`.
     """
-    out = copy.deepcopy(dict(config))
+    out = apply_preset(config)
     validator = jsonschema.Draft202012Validator(schema())
     errors = list(validator.iter_errors(out))
     if errors:

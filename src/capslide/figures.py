@@ -562,6 +562,43 @@ def fig_cap_xn(case, ubar: float | None = None):
     return fig
 
 
+SWEEP_MARKERS = {"mesh": ("o", BLUE), "Q2": ("s", ORANGE), "gauss": ("^", PURPLE), "slide_step": ("v", "0.35"),
+                 "eps_t": ("D", "tab:green"), "k_DI": ("P", "tab:red"), "solver": ("X", "tab:brown")}
+
+
+def fig_convergence(rows, error_floor: float = 1e-6):
+    """Largest relative QoI error against wall time (log-log), one panel per base case; the line joins the runs
+    on the Pareto front. ``rows``: the convergence table (dicts with case, sweep, value, wall_time_s, error,
+    pareto). Errors below ``error_floor`` are drawn at the floor (open markers)."""
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    fig, axes = plt.subplots(1, len(cases), figsize=(DOUBLE_COLUMN, 2.9), squeeze=False)
+    for k, (ax, case) in enumerate(zip(axes[0], cases)):
+        mine = [r for r in rows if r["case"] == case and np.isfinite(float(r["error"]))]
+        seen = set()
+        for r in mine:
+            marker, color = SWEEP_MARKERS.get(r["sweep"], ("o", "k"))
+            err = float(r["error"])
+            label = r["sweep"] if r["sweep"] not in seen else None
+            seen.add(r["sweep"])
+            ax.plot(float(r["wall_time_s"]), max(err, error_floor), marker, color=color, ms=4,
+                    mfc=color if err >= error_floor else "none", label=label, ls="none")
+            if r["sweep"] == "mesh":
+                ax.annotate(r["value"], (float(r["wall_time_s"]), max(err, error_floor)), fontsize=5,
+                            xytext=(3, 2), textcoords="offset points")
+        front = sorted((float(r["wall_time_s"]), max(float(r["error"]), error_floor)) for r in mine
+                       if str(r["pareto"]).lower() in ("true", "1", "yes"))
+        if front:
+            t, e = zip(*front)
+            ax.step(t, e, where="post", color="k", lw=0.7, ls="--", label="Pareto front")
+        ax.set(xscale="log", yscale="log", xlabel="wall time of the run (s)",
+               ylabel="largest relative error of the QoIs", title=f"({'ab'[k] if k < 2 else k}) {case}")
+        ax.axhline(0.01, color="0.6", lw=0.5, ls=":")
+        ax.axhline(0.05, color="0.6", lw=0.5, ls=":")
+        ax.legend(loc="lower left", fontsize=5.5, ncol=2)
+    fig.tight_layout()
+    return fig
+
+
 MESH_FIGURES: dict[str, Callable] = {"cap_setup": fig_cap_setup}
 CASES_FIGURES: dict[str, Callable] = {"cap_PxAndAc": fig_cap_PxAndAc, "cap_PxOverAc": fig_cap_PxOverAc}
 TABLE_FIGURES: dict[str, Callable] = {"verification": fig_verification}

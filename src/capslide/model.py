@@ -9,7 +9,9 @@ one scalar constraint G(x) = 0 that fixes the load path:
   follows the jump-in instability through its turning point)
 * ``SlideAtForce(ubar, F*)``: G = Fn - F* with the substrate slid by ubar
 
-Each Newton step solves the bordered system [K c; d^T e] with two solves on
+Each Newton step solves the bordered system [K c; d^T e]: with a solver that
+offers ``solve_bordered`` (``lu_krylov``) in one Krylov run preconditioned by
+the bordered system of a stored factorization, otherwise with two solves on
 the same matrix K (K z1 = R, K z2 = c) and the scalar Schur complement
 e - d.z2.
 """
@@ -58,6 +60,10 @@ class _BorderedSolve:
         self.iterations = 0
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
+        if hasattr(self.solver, "solve_bordered"):  # one Krylov run on the whole bordered system
+            x, info = self.solver.solve_bordered(self.K, self.c, self.d, self.e, r)
+            self.iterations += info.iterations
+            return x
         R, G = r[:-1], r[-1]
         Z, info = self.solver.solve(self.K, np.column_stack([R, self.c]))
         self.iterations += info.iterations

@@ -146,6 +146,9 @@ def case_dataset(result) -> xr.Dataset:
         "traction_t": (("step", "surface_point"), prof("traction_t"), _normalized("tangential traction on the cap per reference area / E, positive = +x", "Pa", S)),
         "slip_state": (("step", "surface_point"), prof("slip_state", np.int8), _flag(SLIP_FLAGS, "friction state of the surface point")),
     }
+    if not p.config["output"]["surface_profiles"]:
+        for name in ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state"):
+            del data[name]
     scal = result.scalars
     data.update({
         "peak_Ft": ((), scal["peak_Ft"], _normalized("largest |Ft| while sliding (signed) / (E L0 W)", "N/m", F)),

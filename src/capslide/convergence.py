@@ -1,0 +1,284 @@
+"""Speed against error: the runs of a convergence study, their errors, orders and Pareto front.
+
+Pure functions (no file IO). A study spec (``config/convergence.yaml``) names
+base cases (config overrides) and sweeps: each sweep varies one config key over
+a list of values on top of its own fixed overrides. Every (case, sweep, value)
+becomes a run; runs with the same overrides share one case file. The CLI
+reads the case files into :class:`RunResult` records; this module turns them
+into the table, the observed convergence orders and the error-versus-time
+front that the figure draws.
+
+Quantities of interest (QoIs), normalized as in the case files: peak Ft
+(E L0 W), onset ubar (L0), contact area at onset (L0), Ft at ubar = 4 L0
+(E L0 W). Errors are relative: |q - q_ref| / |q_ref|.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["QOIS", "Run", "RunResult", "validate_spec", "study_runs", "run_overrides", "quantities", "reference",
+           "observed_orders", "pareto_front", "error_rows", "order_rows", "cheapest_within", "TABLE_COLUMNS", "ORDER_COLUMNS",
+           "markdown_table"]
+
+QOIS = ("peak_Ft", "onset_ubar", "onset_area", "Ft_at_4")
+QOI_UBAR = 4.0  # L0: the ubar of the QoI Ft_at_4
+SLIDE = 2  # phase flag of the slide (results.PHASE_FLAGS)
+
+
+@dataclass(frozen=True)
+class Run:
+    """One row of the study: base case, sweep, swept value, and the case file it reads (``run_id``)."""
+
+    case: str
+    sweep: str
+    value: object
+    run_id: str
+
+
+@dataclass
+class RunResult:
+    """What the table needs from one case file."""
+
+    status: str
+    qoi: dict[str, float]
+    wall_time: float
+    n_dofs: int
+    steps: int
+    newton_iterations: int
+    krylov_iterations: int
+    extra: dict = field(default_factory=dict)
+
+
+def validate_spec(spec) -> None:
+    """Raise ValueError naming the first bad entry of a convergence spec."""
+    if not isinstance(spec, dict):
+        raise ValueError("the spec must be a mapping with 'cases', 'sweeps' and 'reference'")
+    for key in ("cases", "sweeps"):
+        if not isinstance(spec.get(key), dict) or not spec[key]:
+            raise ValueError(f"the spec needs a non-empty mapping '{key}'")
+    for name, sets in spec["cases"].items():
+        if not isinstance(sets, dict):
+            raise ValueError(f"cases.{name} must be a mapping of dotted config keys to values")
+    for name, sw in spec["sweeps"].items():
+        if not isinstance(sw, dict) or "key" not in sw or not isinstance(sw.get("values"), list) or not sw["values"]:
+            raise ValueError(f"sweeps.{name} needs 'key' and a non-empty list 'values'")
+        unknown = set(sw) - {"key", "values", "set", "cases"}
+        if unknown:
+            raise ValueError(f"sweeps.{name}: unknown key '{sorted(unknown)[0]}' (allowed: key, values, set, cases)")
+        for c in sw.get("cases", []):
+            if c not in spec["cases"]:
+                raise ValueError(f"sweeps.{name}.cases: '{c}' is not a case (cases: {', '.join(spec['cases'])})")
+    base = spec.get("base", {})
+    for name, sw in spec["sweeps"].items():
+        if sw["key"] not in base:
+            raise ValueError(f"sweeps.{name}.key = {sw['key']!r} must have a value in 'base' (the default of the knob)")
+    ref = spec.get("reference")
+    if not isinstance(ref, dict) or ref.get("sweep") not in spec["sweeps"]:
+        raise ValueError("the spec needs 'reference: {sweep: NAME, value: VALUE}' naming one sweep")
+    if ref.get("value") not in spec["sweeps"][ref["sweep"]]["values"]:
+        raise ValueError(f"reference.value = {ref.get('value')!r} is not a value of sweeps.{ref['sweep']}")
+
+
+def _fmt(value) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def run_overrides(spec: dict, case: str, sweep: str, value) -> dict:
+    """The config overrides of one run: study base, base case, the sweep's fixed set, the swept key."""
+    sw = spec["sweeps"][sweep]
+    sets = {**spec.get("base", {}), **spec["cases"][case], **sw.get("set", {})}
+    sets[sw["key"]] = value
+    return sets
+
+
+def _run_id(spec: dict, sets: dict, case: str) -> str:
+    """File stem of a run: its overrides that differ from the study base and the base case, sorted
+    ("default" when none do). The base states every knob a sweep varies, so ids do not depend on config files."""
+    common = {**spec.get("base", {}), **spec["cases"][case]}
+    missing = object()
+    parts = [f"{k.split('.')[-1]}-{_fmt(v)}" for k, v in sorted(sets.items()) if common.get(k, missing) != v]
+    return "__".join(parts) or "default"
+
+
+def study_runs(spec: dict) -> list[Run]:
+    """Every (case, sweep, value) of the spec; runs with equal overrides share a ``run_id``, hence a case file."""
+    runs = []
+    for sweep, sw in spec["sweeps"].items():
+        for case in sw.get("cases", list(spec["cases"])):
+            for value in sw["values"]:
+                runs.append(Run(case, sweep, value, _run_id(spec, run_overrides(spec, case, sweep, value), case)))
+    return runs
+
+
+def quantities(phase: np.ndarray, ubar: np.ndarray, Ft: np.ndarray, peak_Ft: float, onset_ubar: float,
+               onset_area: float) -> dict[str, float]:
+    """The QoIs of one case from its step arrays and scalars; Ft at ubar = 4 L0 interpolated over the slide
+    (exact when a step ends there, as when ubar_max = 4); NaN when the slide did not reach it."""
+    slide = phase == SLIDE
+    u, f = ubar[slide], Ft[slide]
+    at4 = float(np.interp(QOI_UBAR, u, f)) if u.size and u.min() <= QOI_UBAR <= u.max() else math.nan
+    return {"peak_Ft": float(peak_Ft), "onset_ubar": float(onset_ubar), "onset_area": float(onset_area), "Ft_at_4": at4}
+
+
+def observed_orders(h: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Observed orders p_i = log(|q_i - q_{i+1}| / |q_{i+1} - q_{i+2}|) / log(h_i / h_{i+1}) of a sequence refined
+    by a constant ratio (h decreasing); NaN where a difference is zero."""
+    h, q = np.asarray(h, float), np.asarray(q, float)
+    d = np.abs(np.diff(q))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.log(d[:-1] / d[1:]) / np.log(h[:-2] / h[1:-1])
+    return np.where(np.isfinite(p), p, np.nan)
+
+
+def reference(h: np.ndarray, q: np.ndarray, regular: float = 0.3) -> tuple[float, str, float]:
+    """Reference value of a refinement sequence (h decreasing): the finest value, or its Richardson extrapolation
+    q_f + (q_f - q_c) / (r^p - 1) when the last two observed orders p agree within ``regular`` (relative) and
+    lie in [0.5, 4]. Returns (value, 'richardson' or 'finest', p)."""
+    h, q = np.asarray(h, float), np.asarray(q, float)
+    finest = float(q[-1])
+    last = slice(-4, None) if len(q) >= 4 else slice(None)
+    p = observed_orders(h[last], q[last]) if len(q) >= 3 else np.array([math.nan])
+    p_last = float(p[-1]) if np.isfinite(p[-1]) else math.nan
+    if len(p) >= 2 and np.all(np.isfinite(p)) and 0.5 <= p[-1] <= 4.0 and abs(p[-1] - p[-2]) <= regular * abs(p[-1]):
+        r = h[-2] / h[-1]
+        return finest + (finest - float(q[-2])) / (r ** p[-1] - 1.0), "richardson", p_last
+    return finest, "finest", p_last
+
+
+def pareto_front(time: np.ndarray, error: np.ndarray) -> np.ndarray:
+    """Boolean mask of the runs no other run beats in both wall time and error (NaN errors never on it)."""
+    t, e = np.asarray(time, float), np.asarray(error, float)
+    ok = np.isfinite(t) & np.isfinite(e)
+    mask = np.zeros(len(t), dtype=bool)
+    best = math.inf
+    for i in sorted(np.flatnonzero(ok), key=lambda i: (t[i], e[i])):
+        if e[i] < best:
+            mask[i], best = True, e[i]
+    return mask
+
+
+def error_rows(spec: dict, runs: list[Run], results: dict[str, RunResult]) -> tuple[list[dict], dict]:
+    """Table rows (one per run) with QoIs, relative errors against the reference and the run's cost, and the
+    reference of each case: {case: {qoi: (value, kind, order)}}. ``results`` maps run_id -> RunResult.
+
+    The reference comes from the reference sweep (the mesh), Richardson-extrapolated per QoI where regular.
+    ``error`` is the largest relative error over the QoIs; ``change`` the same against the run of the sweep's
+    default value (the study base) at the same mesh, which isolates the knob.
+    """
+    ref_sweep, ref_value = spec["reference"]["sweep"], spec["reference"]["value"]
+    ref_key = spec["sweeps"][ref_sweep]["key"]
+    refs: dict[str, dict] = {}
+    for case in spec["cases"]:
+        seq = [r for r in runs if r.case == case and r.sweep == ref_sweep]
+        seq = [r for r in seq if r.run_id in results]
+        if not any(r.value == ref_value for r in seq):
+            raise ValueError(f"the reference run ({ref_sweep} = {ref_value}) of case {case} is missing")
+        upto = [r for r in seq if _order_key(r.value) >= _order_key(ref_value)]  # coarse to the reference
+        upto.sort(key=lambda r: -_order_key(r.value))
+        h = np.array([float(r.value) for r in upto])
+        refs[case] = {}
+        for qname in QOIS:
+            q = np.array([results[r.run_id].qoi[qname] for r in upto])
+            refs[case][qname] = reference(h, q)
+    rows = []
+    for r in runs:
+        res = results.get(r.run_id)
+        if res is None:
+            continue
+        row = {"case": r.case, "sweep": r.sweep, "key": spec["sweeps"][r.sweep]["key"], "value": _fmt(r.value),
+               "run": r.run_id, "status": res.status, "n_dofs": res.n_dofs, "steps": res.steps,
+               "newton_iterations": res.newton_iterations, "krylov_iterations": res.krylov_iterations,
+               "wall_time_s": round(res.wall_time, 2)}
+        errs = []
+        for qname in QOIS:
+            q, (qr, _, _) = res.qoi[qname], refs[r.case][qname]
+            err = abs(q - qr) / abs(qr) if qr != 0 and math.isfinite(q) else math.nan
+            row[qname], row[f"err_{qname}"] = q, err
+            errs.append(err)
+        row["error"] = max(errs) if all(math.isfinite(e) for e in errs) else math.nan
+        rows.append(row)
+    _add_changes(spec, rows, ref_key)
+    return rows, refs
+
+
+def order_rows(spec: dict, rows: list[dict]) -> list[dict]:
+    """Observed orders of every sweep over the reference key (the mesh size), per case and QoI, from consecutive
+    triplets of the table's runs (coarse to fine): p = log(|q1 - q2| / |q2 - q3|) / log(h1 / h2)."""
+    ref_key = spec["sweeps"][spec["reference"]["sweep"]]["key"]
+    out = []
+    for sweep, sw in spec["sweeps"].items():
+        if sw["key"] != ref_key:
+            continue
+        for case in spec["cases"]:
+            seq = sorted((r for r in rows if r["case"] == case and r["sweep"] == sweep), key=lambda r: -float(r["value"]))
+            if len(seq) < 3:
+                continue
+            h = np.array([float(r["value"]) for r in seq])
+            for qname in QOIS:
+                p = observed_orders(h, np.array([float(r[qname]) for r in seq]))
+                for i, pi in enumerate(p):
+                    out.append({"case": case, "sweep": sweep, "qoi": qname,
+                                "sizes": "/".join(_fmt(float(v)) for v in h[i:i + 3]), "order": float(pi)})
+    return out
+
+
+def cheapest_within(rows: list[dict], threshold: float) -> dict | None:
+    """The run (same overrides in every case) whose largest error over all cases is below ``threshold`` at the
+    least total wall time: {"run", "error", "wall_time_s"}, or None. This is how presets are chosen."""
+    cases = {r["case"] for r in rows}
+    by_run: dict[str, list[dict]] = {}
+    for r in rows:
+        by_run.setdefault(r["run"], []).append(r)
+    best = None
+    for run, rs in by_run.items():
+        per_case = {r["case"]: r for r in rs}
+        if set(per_case) != cases or any(r["status"] != "completed" for r in rs):
+            continue
+        err = max(float(r["error"]) for r in per_case.values())
+        wall = sum(float(r["wall_time_s"]) for r in per_case.values())
+        if err < threshold and (best is None or wall < best["wall_time_s"]):
+            best = {"run": run, "error": err, "wall_time_s": wall}
+    return best
+
+
+def _order_key(value) -> float:
+    """Mesh sizes: larger is coarser."""
+    return float(value)
+
+
+def _add_changes(spec: dict, rows: list[dict], ref_key: str) -> None:
+    """``change``: largest relative QoI change against the reference sweep's run at the mesh that the row's sweep
+    fixes in its ``set`` (the same mesh with every knob at its default); NaN for sweeps that fix no mesh."""
+    ref_sweep = spec["reference"]["sweep"]
+    for row in rows:
+        size = spec["sweeps"][row["sweep"]].get("set", {}).get(ref_key)
+        base = next((o for o in rows if o["case"] == row["case"] and o["sweep"] == ref_sweep
+                     and size is not None and float(o["value"]) == float(size)), None)
+        ch = [abs(row[q] - base[q]) / abs(base[q]) if base is not None and base[q] else math.nan for q in QOIS]
+        row["change"] = max(ch) if all(math.isfinite(c) for c in ch) else math.nan
+
+
+ORDER_COLUMNS = ["case", "sweep", "qoi", "sizes", "order"]
+TABLE_COLUMNS = ["case", "sweep", "key", "value", "run", "status", "n_dofs", "steps", "newton_iterations",
+                 "krylov_iterations", "wall_time_s", *QOIS, *(f"err_{q}" for q in QOIS), "error", "change", "pareto"]
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            return "-"
+        return f"{value:.2e}" if value != 0 and abs(value) < 1e-3 else f"{value:.5g}"
+    if isinstance(value, bool):
+        return "yes" if value else ""
+    return str(value)
+
+
+def markdown_table(rows: list[dict], columns: list[str] | None = None) -> str:
+    cols = columns or TABLE_COLUMNS
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    lines += ["| " + " | ".join(_cell(r.get(c, "")) for c in cols) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
