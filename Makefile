@@ -1,6 +1,7 @@
 # Two entry points for a fresh machine (Python 3.11, no venv yet):
 #   make reproduce   set up .venv and run the full Snakemake reproduction
 #   make test        set up .venv and run the default test suite
+#   make convergence set up .venv and run the speed-against-error study (results/studies/convergence/)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -11,7 +12,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: setup reproduce test test-all lock clean
+.PHONY: setup reproduce convergence test test-all lock clean
 
 setup: $(VENV)/.installed
 
@@ -23,6 +24,9 @@ $(VENV)/.installed: pyproject.toml requirements.lock
 
 reproduce: setup
 	$(BIN)/snakemake --cores $(CORES)
+
+convergence: setup
+	$(BIN)/snakemake --cores $(CORES) convergence
 
 test: setup
 	$(BIN)/python -m pytest -m "not slow"

@@ -16,6 +16,18 @@ def test_dry_run_is_clean(workdir):
     assert "Warning" not in res.stdout + res.stderr
 
 
+def test_preset_file_reaches_every_case_and_the_convergence_target_plans(workdir):
+    """--configfile config/presets/fast.yaml is passed on to each case's capslide run; the convergence target
+    plans one job per distinct run of config/convergence.yaml and the table."""
+    res = snakemake(workdir, "results/cases/DI_Fn+0.000.nc", "-n", "-p", "--configfile", "config/presets/fast.yaml")
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert re.search(r"capslide run --resume config/config\.yaml \S*config/presets/fast\.yaml", res.stdout), res.stdout[-2000:]
+    conv = snakemake(workdir, "-n", "convergence")
+    assert conv.returncode == 0, conv.stderr[-2000:]
+    jobs = dict(re.findall(r"^(convergence_\w+)\s+(\d+)$", conv.stdout, re.M))
+    assert jobs["convergence_table"] == "1" and int(jobs["convergence_case"]) >= 40
+
+
 def test_slurm_profile_parses(workdir):
     """The cluster profile loads (executor plugin installed, resources valid) without a cluster: a dry run."""
     res = snakemake(workdir, "--profile", "profiles/slurm", "-n")

@@ -26,6 +26,7 @@ __all__ = ["QOIS", "Run", "RunResult", "validate_spec", "study_runs", "run_overr
 
 QOIS = ("peak_Ft", "onset_ubar", "onset_area", "Ft_at_4")
 QOI_UBAR = 4.0  # L0: the ubar of the QoI Ft_at_4
+REFINEMENT_KEYS = ("mesh.size", "mesh.max_size_over_H")  # sweeps that refine: observed orders are reported
 SLIDE = 2  # phase flag of the slide (results.PHASE_FLAGS)
 
 
@@ -166,11 +167,10 @@ def error_rows(spec: dict, runs: list[Run], results: dict[str, RunResult]) -> tu
     reference of each case: {case: {qoi: (value, kind, order)}}. ``results`` maps run_id -> RunResult.
 
     The reference comes from the reference sweep (the mesh), Richardson-extrapolated per QoI where regular.
-    ``error`` is the largest relative error over the QoIs; ``change`` the same against the run of the sweep's
-    default value (the study base) at the same mesh, which isolates the knob.
+    ``error`` is the largest relative error over the QoIs; ``change`` the same against the run of the same sweep
+    at the knob's default (the study base), which isolates the knob.
     """
     ref_sweep, ref_value = spec["reference"]["sweep"], spec["reference"]["value"]
-    ref_key = spec["sweeps"][ref_sweep]["key"]
     refs: dict[str, dict] = {}
     for case in spec["cases"]:
         seq = [r for r in runs if r.case == case and r.sweep == ref_sweep]
@@ -201,17 +201,16 @@ def error_rows(spec: dict, runs: list[Run], results: dict[str, RunResult]) -> tu
             errs.append(err)
         row["error"] = max(errs) if all(math.isfinite(e) for e in errs) else math.nan
         rows.append(row)
-    _add_changes(spec, rows, ref_key)
+    _add_changes(spec, rows)
     return rows, refs
 
 
 def order_rows(spec: dict, rows: list[dict]) -> list[dict]:
-    """Observed orders of every sweep over the reference key (the mesh size), per case and QoI, from consecutive
+    """Observed orders of every refinement sweep (key in ``REFINEMENT_KEYS``), per case and QoI, from consecutive
     triplets of the table's runs (coarse to fine): p = log(|q1 - q2| / |q2 - q3|) / log(h1 / h2)."""
-    ref_key = spec["sweeps"][spec["reference"]["sweep"]]["key"]
     out = []
     for sweep, sw in spec["sweeps"].items():
-        if sw["key"] != ref_key:
+        if sw["key"] not in REFINEMENT_KEYS:
             continue
         for case in spec["cases"]:
             seq = sorted((r for r in rows if r["case"] == case and r["sweep"] == sweep), key=lambda r: -float(r["value"]))
@@ -250,15 +249,15 @@ def _order_key(value) -> float:
     return float(value)
 
 
-def _add_changes(spec: dict, rows: list[dict], ref_key: str) -> None:
-    """``change``: largest relative QoI change against the reference sweep's run at the mesh that the row's sweep
-    fixes in its ``set`` (the same mesh with every knob at its default); NaN for sweeps that fix no mesh."""
-    ref_sweep = spec["reference"]["sweep"]
+def _add_changes(spec: dict, rows: list[dict]) -> None:
+    """``change``: largest relative QoI change against the run of the same sweep and case whose swept key has its
+    study-base value (the knob at its default, everything else equal); NaN when the sweep has no such run."""
+    base = spec.get("base", {})
     for row in rows:
-        size = spec["sweeps"][row["sweep"]].get("set", {}).get(ref_key)
-        base = next((o for o in rows if o["case"] == row["case"] and o["sweep"] == ref_sweep
-                     and size is not None and float(o["value"]) == float(size)), None)
-        ch = [abs(row[q] - base[q]) / abs(base[q]) if base is not None and base[q] else math.nan for q in QOIS]
+        key = spec["sweeps"][row["sweep"]]["key"]
+        ref = next((o for o in rows if o["case"] == row["case"] and o["sweep"] == row["sweep"]
+                    and key in base and o["value"] == _fmt(base[key])), None)
+        ch = [abs(row[q] - ref[q]) / abs(ref[q]) if ref is not None and ref[q] else math.nan for q in QOIS]
         row["change"] = max(ch) if all(math.isfinite(c) for c in ch) else math.nan
 
 

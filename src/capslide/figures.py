@@ -592,8 +592,10 @@ def fig_convergence(rows, error_floor: float = 1e-6):
             ax.step(t, e, where="post", color="k", lw=0.7, ls="--", label="Pareto front")
         ax.set(xscale="log", yscale="log", xlabel="wall time of the run (s)",
                ylabel="largest relative error of the QoIs", title=f"({'ab'[k] if k < 2 else k}) {case}")
-        ax.axhline(0.01, color="0.6", lw=0.5, ls=":")
-        ax.axhline(0.05, color="0.6", lw=0.5, ls=":")
+        for level in (0.01, 0.05):  # the error bounds of the 'paper' and 'fast' presets
+            ax.axhline(level, color="0.6", lw=0.5, ls=":")
+            ax.text(0.99, level, f"{level:.0%}", transform=ax.get_yaxis_transform(), ha="right", va="bottom",
+                    fontsize=5.5, color="0.4")
         ax.legend(loc="lower left", fontsize=5.5, ncol=2)
     fig.tight_layout()
     return fig

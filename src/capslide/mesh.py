@@ -280,7 +280,8 @@ def cap_mesh_spec(params) -> CapMeshSpec:
     if band is None:
         E_star = analytic.effective_modulus(params.material.E, params.material.nu)
         band = analytic.jkr_cylinder_half_width(0.0, g.R, E_star, params.adhesion.W_adh) + abs(params.loading.ubar_max)
-    return CapMeshSpec(R=g.R, H=g.H, h0=H0_AT_SIZE_1 * m.size, band_half_width=band, element=m.element)
+    return CapMeshSpec(R=g.R, H=g.H, h0=H0_AT_SIZE_1 * m.size, band_half_width=band, element=m.element,
+                       max_size_over_H=m.max_size_over_H)
 
 
 def rectangle_mesh(nx: int, ny: int, width: float = 1.0, height: float = 1.0, element: str = "Q1",

@@ -149,6 +149,7 @@ class MeshSpec:
     size: float
     surface_gauss_points: int
     band_half_width: float | None
+    max_size_over_H: float = 0.25
 
 
 @dataclass(frozen=True)
@@ -231,6 +232,7 @@ class Parameters:
                 element=msh["element"], size=float(msh["size"]),
                 surface_gauss_points=int(msh["surface_gauss_points"]),
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
+                max_size_over_H=float(msh["max_size_over_H"]),
             ),
             loading=Loading(
                 preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),

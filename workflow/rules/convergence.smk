@@ -36,8 +36,7 @@ rule convergence:
 
 rule convergence_case:
     input:
-        CONFIG_FILES,
-        CONVERGENCE_SPEC,
+        CONFIG_FILES,  # the run's own overrides are params (Snakemake reruns a run when they change)
     output:
         f"{CONVERGENCE_DIR}/cases/{{case}}/{{run}}.nc",
     wildcard_constraints:
