@@ -15,7 +15,8 @@ PAPER_CONFIG = ROOT / "config" / "config.yaml"
 
 @pytest.fixture(scope="session")
 def paper_config() -> dict:
-    return load_config([PAPER_CONFIG])
+    """The paper's config at the 'fast' numerical preset (Q1 elements): tests choose their own coarse meshes."""
+    return load_config([PAPER_CONFIG], ["preset=fast"])
 
 
 @pytest.fixture(scope="session")

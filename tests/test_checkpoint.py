@@ -16,7 +16,7 @@ from capslide.config import apply_overrides, validate
 from capslide.params import Parameters
 from conftest import PAPER_CONFIG, default_sigint
 
-COARSE = ["mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
+COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
           "loading.slide_back=true"]
 
 

@@ -78,7 +78,7 @@ def test_grading(cap):
 
 def test_paper_level_cell_count(paper_config):
     """mesh.size 1 is the paper's 42,300-element level (the 'paper' preset is coarser, see docs/performance.md)."""
-    spec = cap_mesh_spec(Parameters.from_config(validate(apply_overrides(paper_config, ["mesh.size=1"]))))
+    spec = cap_mesh_spec(Parameters.from_config(validate(apply_overrides(paper_config, ["mesh.size=1", "mesh.element=Q1"]))))
     assert spec.h0 == H0_AT_SIZE_1
     assert 11.0 < spec.band_half_width < 12.0  # JKR zero-load half-width ~6.35 + ubar_max 5
     mesh = cap_mesh(spec)

@@ -16,7 +16,7 @@ from conftest import PAPER_CONFIG
 MODELS = {"DI": ["friction.model=DI"], "EA1": ["friction.model=EA", "friction.s_cut=1"],
           "EA0": ["friction.model=EA", "friction.s_cut=0"]}
 PRELOADS = [-0.288, 0.0, 0.288]
-COARSE = ["mesh.size=32", "loading.ubar_max=4.0", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
+COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=4.0", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
 
 
 @pytest.fixture(scope="module")

@@ -81,8 +81,9 @@ def test_overlay_files_merge(tmp_path):
     assert cfg["loading"]["preload"] == -0.288
 
 
-def test_preset_fills_only_what_nothing_else_sets(paper_config, tmp_path):
+def test_preset_fills_only_what_nothing_else_sets(tmp_path):
     """The paper's config chooses the 'paper' preset; another preset or an explicit key changes the mesh."""
+    paper_config = load_config([PAPER])
     presets = paper_config["presets"]
     assert paper_config["preset"] == "paper" and paper_config["mesh"]["size"] == presets["paper"]["mesh.size"]
     ref = load_config([PAPER], ["preset=reference"])

@@ -34,7 +34,7 @@ def test_mesh_cli_and_figure(tmp_path):
     run = lambda *a: subprocess.run([sys.executable, "-m", "capslide", *map(str, a)], capture_output=True, text=True)  # noqa: E731
     res = run("mesh", PAPER_CONFIG, "--set", "mesh.size=8", "-o", out)
     assert res.returncode == 0, res.stderr
-    assert "Q1 cells" in res.stdout
+    assert "Q2 cells" in res.stdout  # the paper preset
     res = run("figure", "cap_setup", "--input", out, "-o", tmp_path / "setup.png")
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "setup.png").stat().st_size > 20000

@@ -10,7 +10,7 @@ from capslide.interface import SLIP, STICK
 from capslide.mesh import rectangle_mesh
 from capslide.params import Parameters
 
-COARSE = ["mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
+COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
 
 
 def params_with(paper_config, *overrides):
@@ -141,7 +141,7 @@ def test_pull_off_ends_detached_with_a_file(tmp_path):
     from conftest import PAPER_CONFIG
 
     out = tmp_path / "detached.nc"
-    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "mesh.size=32",
+    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "preset=fast", "--set", "mesh.size=32",
                           "--set", "loading.preload=1.0", "--set", "output.snapshot_ubar=[]", "-q", "-o", str(out)],
                          capture_output=True, text=True, timeout=600)
     assert res.returncode == 3, res.stderr

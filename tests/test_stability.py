@@ -71,7 +71,7 @@ def test_markdown_table_marks_failures():
 
 
 REDUCED = """
-base: {mesh.size: 32, loading.ubar_max: 2.0, loading.max_slide_step: 0.2, output.snapshot_ubar: []}
+base: {preset: fast, mesh.size: 32, loading.ubar_max: 2.0, loading.max_slide_step: 0.2, output.snapshot_ubar: []}
 time_bound_s: 300
 cases:
   pull_off: {set: {loading.preload: 1.0, loading.ubar_max: 0.0}, expect: detached, check: pull_off}
