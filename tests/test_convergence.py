@@ -67,7 +67,7 @@ def test_error_rows_against_the_reference():
     runs = study_runs(SPEC)
     qoi = lambda v: dict(zip(QOIS, (v, 2 * v, 3 * v, 4 * v)))  # noqa: E731
     values = {"default": 1.1, "size-4": 1.02, "size-2": 1.0, "surface_gauss_points-2": 1.05}
-    results = {r.run_id: RunResult("completed", qoi(values[r.run_id]), 10.0, 100, 5, 10, 50) for r in runs
+    results = {(r.case, r.run_id): RunResult("completed", qoi(values[r.run_id]), 10.0, 100, 5, 10, 50) for r in runs
                if r.case == "A"}
     rows, refs = error_rows({**SPEC, "cases": {"A": SPEC["cases"]["A"]}}, [r for r in runs if r.case == "A"], results)
     by = {(r["sweep"], r["value"]): r for r in rows}

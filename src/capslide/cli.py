@@ -247,10 +247,12 @@ def cmd_collect(args) -> int:
     return 0
 
 
-def _read_spec(path: str) -> dict:
+def _read_spec(path: str, validate_spec=None) -> dict:
+    """A study spec (YAML) checked by ``validate_spec`` (default: the stability suite's); InputError when bad."""
     import yaml
 
-    from .stability import validate_spec
+    if validate_spec is None:
+        from .stability import validate_spec
 
     try:
         spec = yaml.safe_load(Path(path).read_text())
@@ -260,6 +262,18 @@ def _read_spec(path: str) -> dict:
     except (yaml.YAMLError, ValueError) as err:
         raise InputError(f"{path}: {str(err).splitlines()[0]}") from None
     return spec
+
+
+def _csv_text(rows: list[dict], columns: list[str]) -> str:
+    """Rows as CSV text with the given columns (missing cells empty)."""
+    import csv
+    import io
+
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows([{k: r.get(k, "") for k in columns} for r in rows])
+    return buf.getvalue()
 
 
 def _case_arrays(path: Path) -> dict:
@@ -295,9 +309,6 @@ def cmd_overrides(args) -> int:
 
 def cmd_stability(args) -> int:
     """Evaluate the hard cases of a stability spec from their case files; write the table (CSV, Markdown)."""
-    import csv
-    import io
-
     from .stability import TABLE_COLUMNS, case_overrides, check, markdown_table, pull_off_force
 
     spec = _read_spec(args.spec)
@@ -330,14 +341,7 @@ def cmd_stability(args) -> int:
     if "pull_off" in arrays:
         print(f"pull-off force: {pull_off_force(arrays['pull_off']['phase'], arrays['pull_off']['Fn']):.6g} E L0 W")
     for out in outputs:
-        if out.suffix == ".md":
-            text = markdown_table(rows)
-        else:
-            buf = io.StringIO()
-            writer = csv.DictWriter(buf, fieldnames=TABLE_COLUMNS, lineterminator="\n")
-            writer.writeheader()
-            writer.writerows([{k: r.get(k, "") for k in TABLE_COLUMNS} for r in rows])
-            text = buf.getvalue()
+        text = markdown_table(rows) if out.suffix == ".md" else _csv_text(rows, TABLE_COLUMNS)
         _write_text_atomic(out, text)
     failed = [r["case"] for r in rows if not r["passed"]]
     print(f"{len(rows) - len(failed)} of {len(rows)} hard cases as expected" + (f"; not: {', '.join(failed)}" if failed else ""))
@@ -346,32 +350,16 @@ def cmd_stability(args) -> int:
 
 def cmd_convergence(args) -> int:
     """Evaluate a convergence study from its case files: table (CSV, Markdown) and error-versus-time figure."""
-    import csv
-    import io
-
-    import yaml
-
     from .convergence import (ORDER_COLUMNS, TABLE_COLUMNS, RunResult, cheapest_within, error_rows, markdown_table,
-                              order_rows, pareto_front, quantities, study_runs)
-    from .convergence import validate_spec as validate_convergence
+                              order_rows, pareto_front, quantities, study_runs, validate_spec)
 
-    try:
-        spec = yaml.safe_load(Path(args.spec).read_text())
-        validate_convergence(spec)
-    except OSError as err:
-        raise InputError(f"cannot read '{args.spec}': {err.strerror}") from None
-    except (yaml.YAMLError, ValueError) as err:
-        raise InputError(f"{args.spec}: {str(err).splitlines()[0]}") from None
+    spec = _read_spec(args.spec, validate_spec)
     outputs = _check_outputs(args.output, {"csv", "md", "pdf", "png"})
-    if args.orders:
-        outputs += _check_outputs([args.orders], {"csv"})
+    orders_csv = _check_outputs([args.orders], {"csv"})[0] if args.orders else None
     runs = study_runs(spec)
     results = {}
-    for r in runs:
-        key = f"{r.case}/{r.run_id}"
-        if key in results:
-            continue
-        path = Path(args.cases) / f"{key}.nc"
+    for key in dict.fromkeys((r.case, r.run_id) for r in runs):
+        path = Path(args.cases) / key[0] / f"{key[1]}.nc"
         if not path.is_file():
             raise InputError(f"case file '{path}' does not exist (run: snakemake --cores 2 convergence)")
         ds = _open_netcdf(path)
@@ -380,13 +368,10 @@ def cmd_convergence(args) -> int:
         results[key] = RunResult(str(ds.attrs.get("status")), q, float(ds.attrs.get("case_wall_time", np.nan)),
                                  int(ds.attrs["n_dofs"]), int(ds.sizes["step"]), int(ds["newton_iterations"].sum()),
                                  int(ds["krylov_iterations"].sum()))
-    keyed = [type(r)(r.case, r.sweep, r.value, f"{r.case}/{r.run_id}") for r in runs]
     try:
-        rows, refs = error_rows(spec, keyed, results)
+        rows, refs = error_rows(spec, runs, results)
     except ValueError as err:
         raise InputError(str(err)) from None
-    for row in rows:
-        row["run"] = row["run"].split("/", 1)[1]
     for case in spec["cases"]:
         idx = [i for i, row in enumerate(rows) if row["case"] == case]
         mask = pareto_front([rows[i]["wall_time_s"] for i in idx], [rows[i]["error"] for i in idx])
@@ -401,21 +386,14 @@ def cmd_convergence(args) -> int:
         print(f"cheapest run with every QoI error below {threshold:.0%} in every case: "
               + (f"{best['run']} (largest error {best['error']:.2e}, {best['wall_time_s']:.1f} s over the cases)"
                  if best else "none"))
-
-    def csv_text(table, columns):
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows([{k: row.get(k, "") for k in columns} for row in table])
-        return buf.getvalue()
-
     for out in outputs:
         if out.suffix == ".md":
             _write_text_atomic(out, markdown_table(rows) + "\nObserved orders (mesh-size sweeps, consecutive triplets)"
                                ":\n\n" + markdown_table(orders, ORDER_COLUMNS))
         elif out.suffix == ".csv":
-            is_orders = args.orders is not None and out == Path(args.orders)
-            _write_text_atomic(out, csv_text(orders, ORDER_COLUMNS) if is_orders else csv_text(rows, TABLE_COLUMNS))
+            _write_text_atomic(out, _csv_text(rows, TABLE_COLUMNS))
+    if orders_csv is not None:
+        _write_text_atomic(orders_csv, _csv_text(orders, ORDER_COLUMNS))
     figs = [o for o in outputs if o.suffix in (".pdf", ".png")]
     if figs:
         from . import figures

@@ -109,20 +109,25 @@ def _parse_override(item: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
+def _section(config: dict, path: list[str], what: str) -> dict:
+    """The section holding dotted ``path``'s last key, created where missing; ``what`` names the source in errors."""
+    node = config
+    for part in path[:-1]:
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        elif not isinstance(child, dict):
+            raise ConfigError(f"{what}: '{part}' is a value, not a section")
+        node = child
+    return node
+
+
 def apply_overrides(config: Mapping, overrides: Iterable[str]) -> dict:
     """Apply ``section.key=value`` overrides; values are parsed as YAML scalars."""
     out = copy.deepcopy(dict(config))
     for item in overrides:
         path, value = _parse_override(item)
-        node = out
-        for part in path[:-1]:
-            child = node.get(part)
-            if child is None:
-                child = node[part] = {}
-            elif not isinstance(child, dict):
-                raise ConfigError(f"override '{item}': '{part}' is a value, not a section")
-            node = child
-        node[path[-1]] = value
+        _section(out, path, f"override '{item}'")[path[-1]] = value
     return out
 
 
@@ -221,13 +226,7 @@ def apply_preset(config: Mapping) -> dict:
         if isinstance(value, Mapping):
             raise ConfigError(f"presets.{name}.{key} must be a value: a preset maps dotted keys (mesh.size: 8) to values")
         path = str(key).split(".")
-        node = out
-        for part in path[:-1]:
-            child = node.setdefault(part, {})
-            if not isinstance(child, dict):
-                raise ConfigError(f"presets.{name}: '{key}': '{part}' is a value, not a section")
-            node = child
-        node.setdefault(path[-1], copy.deepcopy(value))
+        _section(out, path, f"presets.{name}: '{key}'").setdefault(path[-1], copy.deepcopy(value))
     return out
 
 

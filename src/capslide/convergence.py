@@ -16,7 +16,7 @@ Quantities of interest (QoIs), normalized as in the case files: peak Ft
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -51,7 +51,6 @@ class RunResult:
     steps: int
     newton_iterations: int
     krylov_iterations: int
-    extra: dict = field(default_factory=dict)
 
 
 def validate_spec(spec) -> None:
@@ -73,9 +72,7 @@ def validate_spec(spec) -> None:
         for c in sw.get("cases", []):
             if c not in spec["cases"]:
                 raise ValueError(f"sweeps.{name}.cases: '{c}' is not a case (cases: {', '.join(spec['cases'])})")
-    base = spec.get("base", {})
-    for name, sw in spec["sweeps"].items():
-        if sw["key"] not in base:
+        if sw["key"] not in spec.get("base", {}):
             raise ValueError(f"sweeps.{name}.key = {sw['key']!r} must have a value in 'base' (the default of the knob)")
     ref = spec.get("reference")
     if not isinstance(ref, dict) or ref.get("sweep") not in spec["sweeps"]:
@@ -164,29 +161,28 @@ def pareto_front(time: np.ndarray, error: np.ndarray) -> np.ndarray:
 
 def error_rows(spec: dict, runs: list[Run], results: dict[str, RunResult]) -> tuple[list[dict], dict]:
     """Table rows (one per run) with QoIs, relative errors against the reference and the run's cost, and the
-    reference of each case: {case: {qoi: (value, kind, order)}}. ``results`` maps run_id -> RunResult.
+    reference of each case: {case: {qoi: (value, kind, order)}}. ``results`` maps (case, run_id) -> RunResult.
 
-    The reference comes from the reference sweep (the mesh), Richardson-extrapolated per QoI where regular.
+    The reference comes from the reference sweep, Richardson-extrapolated per QoI where regular.
     ``error`` is the largest relative error over the QoIs; ``change`` the same against the run of the same sweep
     at the knob's default (the study base), which isolates the knob.
     """
     ref_sweep, ref_value = spec["reference"]["sweep"], spec["reference"]["value"]
     refs: dict[str, dict] = {}
     for case in spec["cases"]:
-        seq = [r for r in runs if r.case == case and r.sweep == ref_sweep]
-        seq = [r for r in seq if r.run_id in results]
+        seq = [r for r in runs if r.case == case and r.sweep == ref_sweep and (r.case, r.run_id) in results]
         if not any(r.value == ref_value for r in seq):
             raise ValueError(f"the reference run ({ref_sweep} = {ref_value}) of case {case} is missing")
-        upto = [r for r in seq if _order_key(r.value) >= _order_key(ref_value)]  # coarse to the reference
-        upto.sort(key=lambda r: -_order_key(r.value))
+        # coarse to the reference (larger values are coarser)
+        upto = sorted((r for r in seq if float(r.value) >= float(ref_value)), key=lambda r: -float(r.value))
         h = np.array([float(r.value) for r in upto])
         refs[case] = {}
         for qname in QOIS:
-            q = np.array([results[r.run_id].qoi[qname] for r in upto])
+            q = np.array([results[(r.case, r.run_id)].qoi[qname] for r in upto])
             refs[case][qname] = reference(h, q)
     rows = []
     for r in runs:
-        res = results.get(r.run_id)
+        res = results.get((r.case, r.run_id))
         if res is None:
             continue
         row = {"case": r.case, "sweep": r.sweep, "key": spec["sweeps"][r.sweep]["key"], "value": _fmt(r.value),
@@ -242,11 +238,6 @@ def cheapest_within(rows: list[dict], threshold: float) -> dict | None:
         if err < threshold and (best is None or wall < best["wall_time_s"]):
             best = {"run": run, "error": err, "wall_time_s": wall}
     return best
-
-
-def _order_key(value) -> float:
-    """Mesh sizes: larger is coarser."""
-    return float(value)
 
 
 def _add_changes(spec: dict, rows: list[dict]) -> None:
