@@ -118,6 +118,10 @@ class BulkForm:
         self.dN = np.einsum("qak,eqik->eqai", dN_dxi, inv)  # dN_a/dX_i, (e, q, a, 2)
         self.wdetJ = detJ * weights  # (e, q)
         self.dNw = self.dN * self.wdetJ[..., None, None]
+        # the same, one (a, q*2) matrix per cell: F and f_int as one small matmul per cell, not per point
+        e, q, a, _ = self.dN.shape
+        self._dN_cell = np.ascontiguousarray(self.dN.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
+        self._dNw_cell = np.ascontiguousarray(self.dNw.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
         self._outer_cache = None
         self._F_cache: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh, self.lam, self.mu = mesh, lam, mu
@@ -135,8 +139,10 @@ class BulkForm:
         if cached is not None and np.array_equal(cached[0], u):
             return cached[1]
         ue = u.reshape(-1, 2)[self.mesh.cells]  # (e, a, 2)
-        # F_ij = delta_ij + sum_a u_ai dN_aj: (e, 1, 2, a) @ (e, q, a, 2)
-        F = np.eye(2) + np.swapaxes(ue, 1, 2)[:, None] @ self.dN
+        # F_ij = delta_ij + sum_a u_ai dN_aj: (e, 2, a) @ (e, a, q*2), then (e, q, i, j)
+        e, q = self.dN.shape[:2]
+        grad_u = (np.swapaxes(ue, 1, 2) @ self._dN_cell).reshape(e, 2, q, 2).transpose(0, 2, 1, 3)
+        F = np.add(grad_u, np.eye(2), out=np.empty((e, q, 2, 2)))
         F.flags.writeable = False
         self._F_cache = (np.array(u, copy=True), F)
         return F
@@ -145,8 +151,9 @@ class BulkForm:
         return np.bincount(self.dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
 
     def _internal_force(self, P: np.ndarray) -> np.ndarray:
-        # f_ai = sum_q dN_aJ P_iJ w: (e, q, a, 2) @ (e, q, 2, 2)^T, summed over q
-        return self._gather((self.dNw @ np.swapaxes(P, -1, -2)).sum(axis=1))
+        # f_ai = sum_q sum_J dN_aJ w P_iJ: (e, a, q*2) @ (e, q*2, 2) with P_iJ ordered (q, J), i
+        e, q = P.shape[:2]
+        return self._gather(self._dNw_cell @ np.swapaxes(P, -1, -2).reshape(e, q * 2, 2))
 
     def residual(self, u: np.ndarray) -> np.ndarray:
         """Internal force vector f_int (E L0), node-major."""
