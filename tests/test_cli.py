@@ -123,3 +123,16 @@ def test_bad_command_lines(tmp_path, argv, words):
     for word in words:
         assert word in lines[0], (word, lines[0])
     assert sorted(tmp_path.rglob("*")) == before  # nothing written, not even a directory
+
+
+def test_verify_that_finds_no_equilibrium_stops_with_one_line(tmp_path):
+    """A verification sweep whose solver gives up: exit 4 (diverged), one line on stderr, no table, no traceback."""
+    scene = PAPER_CONFIG.parent / "scenes" / "hertz.yaml"
+    out = tmp_path / "hertz.csv"
+    res = run("verify", scene, "--scene", "hertz", "-q", "-o", out, "--set", "mesh.size=100",
+              "--set", "solver.newton_max_iterations=1", "--set", "loading.max_cutbacks=3")
+    assert res.returncode == 4, res.stderr
+    assert "Traceback" not in res.stderr
+    lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "verification of scene hertz stopped: approach: more than 3 cut-backs" in lines[0]
+    assert list(tmp_path.iterdir()) == []

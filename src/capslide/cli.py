@@ -438,13 +438,17 @@ def cmd_verify(args) -> int:
     """Sweep a Hertz/JKR verification scene; write the comparison table as CSV."""
     import csv
 
-    from .verification import sweep
+    from .verification import VerificationFailed, sweep
 
     params = _parameters(args)
     if not params.config["verification"]["loads"]:
         raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
     (output,) = _check_outputs([args.output], {"csv"})
-    rows = sweep(params, args.scene, progress=None if args.quiet else _progress_printer())
+    try:
+        rows = sweep(params, args.scene, progress=None if args.quiet else _progress_printer())
+    except VerificationFailed as err:
+        print(f"capslide: verification of scene {args.scene} stopped: {err}; no table written", file=sys.stderr)
+        return EXIT_STATUS["diverged"]
     if not args.quiet and sys.stderr.isatty():
         sys.stderr.write("\n")
     with replacing(output) as tmp, open(tmp, "w", newline="") as fh:

@@ -317,6 +317,10 @@ def _read_table(paths):
     return rows
 
 
+def _max_abs_error(rows, scene, quantity):
+    return float(np.max(np.abs([float(r["rel_error"]) for r in rows if r["scene"] == scene and r["quantity"] == quantity])))
+
+
 def fig_verification(tables):
     """FE half-width against load for the Hertz and JKR scenes, with the closed forms (from the CSV tables)."""
     rows = _read_table(tables)
@@ -329,8 +333,14 @@ def fig_verification(tables):
         P = np.array([float(r["load_P"]) for r in hw])
         a_fe = np.array([float(r["fe"]) for r in hw])
         a_th = np.array([float(r["theory"]) for r in hw])
-        order = np.argsort(a_th)
-        ax.plot(a_th[order], P[order], "-", color=BLUE, label="closed form")
+        c = dict(kv.split("=", 1) for kv in hw[0]["extra"].split(";") if "=" in kv)
+        if {"R", "E_star", "w"} <= c.keys():  # the closed form as a smooth curve
+            a = np.linspace(0.95 * min(a_th.min(), a_fe.min()), 1.03 * max(a_th.max(), a_fe.max()), 200)
+            ax.plot(a, analytic.jkr_cylinder_load(a, float(c["R"]), float(c["E_star"]), float(c["w"])), "-", color=BLUE,
+                    label="closed form")
+        else:
+            order = np.argsort(a_th)
+            ax.plot(a_th[order], P[order], "-", color=BLUE, label="closed form")
         ax.plot(a_fe, P, "o", mfc="none", color=ORANGE, label="finite elements")
         po = [r for r in rows if r["scene"] == scene and r["quantity"] == "pull_off"]
         for r in po:
@@ -338,9 +348,14 @@ def fig_verification(tables):
             ax.axhline(float(r["fe"]), color=ORANGE, ls="--", lw=0.8)
             ax.text(0.02, float(r["theory"]), " pull-off: closed form (dotted), FE (dashed)", fontsize=6, va="bottom",
                     transform=ax.get_yaxis_transform())
-        err = np.max(np.abs([float(r["rel_error"]) for r in hw]))
+        errors = f"largest errors: a {100 * _max_abs_error(rows, scene, 'half_width'):.2f}%"
+        if any(r["scene"] == scene and r["quantity"] == "load_at_half_width" for r in rows):
+            errors += f", P(a) {100 * _max_abs_error(rows, scene, 'load_at_half_width'):.2f}%"
+        pressure = [float(r["fe"]) for r in rows if r["scene"] == scene and r["quantity"] == "pressure_L2"]
+        if pressure:  # L2 difference from the Hertz pressure, already relative to p0
+            errors += f", p(x) {100 * max(pressure):.2f}%"
         ax.set(xlabel=r"contact half-width $a\,/\,L_0$", ylabel=r"load $P = -F_\mathrm{n}\,/\,(E L_0 W)$",
-               title=f"{title}: max |error| {100 * err:.2f}%")
+               title=f"{title}\n{errors}")
         ax.axhline(0.0, color="k", lw=0.4)
         ax.legend(loc="upper left")
     fig.tight_layout()

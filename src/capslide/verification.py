@@ -6,6 +6,9 @@ compared with the closed form of :mod:`capslide.analytic`. The half-width
 is half the current length where g_n <= g_max (JKR: the edge of the
 surfaces held together; the tensile cohesive zone beyond it is small when
 the Maugis parameter is large) or where Tn > 0 (Hertz, repulsion only).
+The JKR load at the FE half-width is compared relative to the larger of
+its own size and the pull-off load |P_c| (the load scale of the JKR curve;
+near zero load a relative error of P itself is meaningless).
 With adhesion, the sweep finally retracts past the closed-form pull-off and
 reports the largest tensile force that still had an equilibrium.
 """
@@ -23,7 +26,11 @@ from .mesh import cap_mesh, cap_mesh_spec
 from .model import CapModel, FixedApexGap, FixedForce
 from .params import Parameters
 
-__all__ = ["VerificationRow", "sweep", "pressure_error"]
+__all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error"]
+
+
+class VerificationFailed(RuntimeError):
+    """A step of the sweep found no equilibrium (the solver gave up); no table is written."""
 
 
 @dataclass
@@ -33,11 +40,12 @@ class VerificationRow:
     load: float  # P = -Fn (E L0 W)
     fe: float
     theory: float
-    extra: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)  # "relative_to": the error's scale, |theory| if absent
 
     @property
     def rel_error(self) -> float:
-        return (self.fe - self.theory) / abs(self.theory) if self.theory else math.nan
+        scale = self.extra.get("relative_to", abs(self.theory))
+        return (self.fe - self.theory) / scale if scale else math.nan
 
 
 def pressure_error(rec: StepRecord, P: float, R: float, E_star: float) -> float:
@@ -64,28 +72,31 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
     res = continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach",
                        records, min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress)
     if res.status != "completed":
-        raise RuntimeError(f"verification approach failed: {res.reason}")
+        raise VerificationFailed(res.reason)
     x = res.x
     rows: list[VerificationRow] = []
     loads = sorted(params.config["verification"]["loads"], reverse=True)
+    P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w) if adhesive else math.nan
+    closed_form = {"R": g.R, "E_star": E_star, "w": w}  # P(a) = pi E* a^2/(4R) - sqrt(2 pi E* w a); w = 0: Hertz
     for P in loads:
         res = continuation(model, x, FixedForce, records[-1].Fn, -P, L.force_step, "preload", records,
                            min_step=L.min_force_step, max_step=L.force_step, progress=progress)
         if res.status != "completed":
-            raise RuntimeError(f"verification at P = {P}: {res.reason}")
+            raise VerificationFailed(f"at P = {P}: {res.reason}")
         x, rec = res.x, records[-1]
         if adhesive:
             a_fe = 0.5 * rec.area
-            rows.append(VerificationRow(scene, "half_width", P, a_fe, analytic.jkr_cylinder_half_width(P, g.R, E_star, w)))
-            rows.append(VerificationRow(scene, "load_at_half_width", P, P,
-                                        float(analytic.jkr_cylinder_load(a_fe, g.R, E_star, w)),
-                                        {"half_width": a_fe}))
+            rows.append(VerificationRow(scene, "half_width", P, a_fe, analytic.jkr_cylinder_half_width(P, g.R, E_star, w),
+                                        closed_form))
+            P_a = float(analytic.jkr_cylinder_load(a_fe, g.R, E_star, w))
+            rows.append(VerificationRow(scene, "load_at_half_width", P, P, P_a,
+                                        {"half_width": a_fe, "relative_to": max(abs(P_a), abs(P_c))}))
         else:
             a_fe = 0.5 * rec.area_compressive
-            rows.append(VerificationRow(scene, "half_width", P, a_fe, float(analytic.hertz_line_half_width(P, g.R, E_star))))
+            rows.append(VerificationRow(scene, "half_width", P, a_fe, float(analytic.hertz_line_half_width(P, g.R, E_star)),
+                                        closed_form))
             rows.append(VerificationRow(scene, "pressure_L2", P, pressure_error(rec, P, g.R, E_star), 0.0))
     if adhesive:  # retract past the closed-form pull-off: the last equilibrium is the FE pull-off
-        P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w)
         res = continuation(model, x, FixedForce, records[-1].Fn, -1.5 * P_c, L.force_step, "preload", records,
                            min_step=L.min_force_step, max_step=L.force_step, progress=progress,
                            stop=lambda r: "detached" if r.area < 1e-3 * g.R else None)
