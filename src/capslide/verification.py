@@ -87,14 +87,14 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
         if adhesive:
             a_fe = 0.5 * rec.area
             rows.append(VerificationRow(scene, "half_width", P, a_fe, analytic.jkr_cylinder_half_width(P, g.R, E_star, w),
-                                        closed_form))
+                                        dict(closed_form)))
             P_a = float(analytic.jkr_cylinder_load(a_fe, g.R, E_star, w))
             rows.append(VerificationRow(scene, "load_at_half_width", P, P, P_a,
                                         {"half_width": a_fe, "relative_to": max(abs(P_a), abs(P_c))}))
         else:
             a_fe = 0.5 * rec.area_compressive
             rows.append(VerificationRow(scene, "half_width", P, a_fe, float(analytic.hertz_line_half_width(P, g.R, E_star)),
-                                        closed_form))
+                                        dict(closed_form)))
             rows.append(VerificationRow(scene, "pressure_L2", P, pressure_error(rec, P, g.R, E_star), 0.0))
     if adhesive:  # retract past the closed-form pull-off: the last equilibrium is the FE pull-off
         res = continuation(model, x, FixedForce, records[-1].Fn, -1.5 * P_c, L.force_step, "preload", records,
