@@ -6,7 +6,7 @@ import pytest
 from capslide.config import apply_overrides, validate
 from capslide.interface import interval_measures
 from capslide.mesh import CapMeshSpec, cap_mesh
-from capslide.model import CapModel, FixedApexGap, FixedForce, FixedHeight
+from capslide.model import CapModel, FixedApexGap, FixedEdgeGap, FixedForce, FixedHeight
 from capslide.params import Parameters
 
 
@@ -32,7 +32,8 @@ def _state(model, seed=0):
 
 
 @pytest.mark.parametrize("element", ["Q1", "Q2"])
-@pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09)], ids=["h", "Fn", "apex"])
+@pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09), FixedEdgeGap(0.37, 0.09)],
+                         ids=["h", "Fn", "apex", "edge"])
 def test_bordered_jacobian_against_finite_differences(paper_config, element, constraint):
     model = _model(paper_config, element)
     x = _state(model)
@@ -52,6 +53,22 @@ def test_bordered_jacobian_against_finite_differences(paper_config, element, con
         # J v from the bordered solve: J (J^{-1} w) = w; check J v directly via the blocks instead
         Jv = _apply_jacobian(solve, v)
         np.testing.assert_allclose(Jv, fd, atol=1e-6 * np.abs(fd).max())
+
+
+@pytest.mark.parametrize("element", ["Q1", "Q2"])
+def test_edge_gap_interpolates_the_surface_between_nodes(paper_config, element):
+    model = _model(paper_config, element)
+    x = _state(model)
+    assert model.edge_gap(x, 0.0) == pytest.approx(model.apex_gap(x), abs=1e-14)
+    nodes = model.mesh.surface_nodes
+    Xs = model.mesh.nodes[nodes, 0]
+    ys = model.mesh.nodes[nodes, 1] + x[2 * nodes + 1]
+    for X in (0.37, 1.0, 2.9):
+        mean_y = 0.5 * (np.interp(-X, Xs, ys) + np.interp(X, Xs, ys))
+        assert model.edge_gap(x, X) == pytest.approx(x[-1] - mean_y, abs=1e-13)
+        assert model.edge_gap(x, -X) == model.edge_gap(x, X)
+    with pytest.raises(ValueError, match="outside the top surface"):
+        model.edge_gap(x, 1.01 * Xs[-1])
 
 
 def _apply_jacobian(solve, v):

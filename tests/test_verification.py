@@ -1,12 +1,18 @@
-"""Verification rows: how errors are scaled, and the figure drawn from the CSV tables."""
+"""Verification: how errors are scaled, the figure drawn from the CSV tables, the edge-controlled JKR sweep."""
 
 import csv
 import math
 
 import pytest
+from conftest import ROOT
 
 from capslide import analytic, figures
-from capslide.verification import VerificationRow
+from capslide.config import load_config
+from capslide.loading import approach
+from capslide.mesh import cap_mesh, cap_mesh_spec
+from capslide.model import CapModel
+from capslide.params import Parameters
+from capslide.verification import VerificationRow, _edge_controlled_sweep
 
 R, E_STAR, W = 200.0, 1.0 / 0.84, 0.013478
 
@@ -58,3 +64,50 @@ def test_verification_figure_from_tables(tmp_path):
     out = [tmp_path / "v.pdf", tmp_path / "v.png"]
     figures.save(fig, out)
     assert all(p.stat().st_size > 5000 for p in out)
+
+
+# A small, stiff JKR scene: T_max 4x the paper's (interaction range r0 = 0.033 L0), R = 20 L0, Maugis parameter 14.
+STIFF_SCENE = ["geometry.R=20", "geometry.H=15", "mesh.band_half_width=6", "mesh.size=4", "adhesion.T_max=1.32e6",
+               "loading.approach_end_gap_over_g_eq=1.2", "loading.approach_edge_step=0.15"]
+
+
+def _stiff_scene(loads, overrides=()):
+    cfg = load_config([ROOT / "config" / "config.yaml", ROOT / "config" / "scenes" / "jkr.yaml"],
+                      [*STIFF_SCENE, f"verification.loads={list(loads)}", *overrides])
+    return Parameters.from_config(cfg)
+
+
+@pytest.mark.slow
+def test_stiff_law_apex_control_alone_stops_at_the_snap_in():
+    """The case for edge control: with the apex gap as the only load parameter the approach of the stiff scene
+    stops where the contact snaps in, within 2 % of g_eq (the apex gap turns there; g_max = 1.2 g_eq). About 50 s."""
+    p = _stiff_scene([0.0], ["loading.approach_edge_step=0", "loading.approach_end_gap_over_g_eq=1.0"])
+    res = approach(CapModel(cap_mesh(cap_mesh_spec(p)), p), [])
+    assert res.status == "diverged" and res.reason.startswith("approach: step below minimum")
+    stopped_at = float(res.reason.split(" at ")[1].split()[0])
+    assert p.adhesion.g_eq < stopped_at < 1.02 * p.adhesion.g_eq
+
+
+def test_edge_controlled_sweep_of_a_stiff_law():
+    """Through the snap-in and the pull-off point to the loads: exact equilibria at the loads, force balance at
+    every step, and the issue's JKR criteria (zero-load half-width within 3 %, pull-off within 5 %)."""
+    loads = [0.0, -0.2]
+    p = _stiff_scene(loads)
+    model = CapModel(cap_mesh(cap_mesh_spec(p)), p)
+    records = []
+    states, F_max, _ = _edge_controlled_sweep(model, loads, records, None)
+    E_star = analytic.effective_modulus(p.material.E, p.material.nu)
+    w = p.adhesion.W_adh
+    for P in loads:
+        assert states[P].phase == "preload" and states[P].Fn == pytest.approx(-P, abs=1e-9)
+    edge_path = [r for r in records if r.phase == "approach" and r.area > 0]
+    i_peak = max(range(len(edge_path)), key=lambda i: edge_path[i].Fn)
+    assert edge_path[i_peak].Fn == F_max and 0 < i_peak < len(edge_path) - 3  # through the pull-off point
+    assert states[-0.2].area > edge_path[i_peak].area  # the tensile load on the stable branch
+    assert states[0.0].area > states[-0.2].area
+    for rec in records:
+        assert rec.Fn + rec.reaction[1] == pytest.approx(0.0, abs=1e-8), rec.phase
+    a0 = analytic.jkr_cylinder_half_width(0.0, p.geometry.R, E_star, w)
+    assert 0.5 * states[0.0].area == pytest.approx(a0, rel=0.03)
+    P_c = analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, w)
+    assert -F_max == pytest.approx(P_c, rel=0.05)

@@ -3,7 +3,9 @@
 Every phase is an adaptive continuation in one scalar load parameter: the
 apex gap during the approach (local displacement control follows the
 jump-in instability through its turning point, so every recorded state is
-an exact equilibrium with no artificial term), then the normal force.
+an exact equilibrium with no artificial term), optionally followed by the
+half-width of the contact (its edge held at the end gap while it spreads:
+for stiff, short-range laws the apex gap turns too), then the normal force.
 Steps grow after easy Newton solves and are halved after failures; below
 the minimum step the phase ends with a reason instead of looping.
 """
@@ -21,11 +23,12 @@ from . import contact
 from .checkpoint import Checkpointer, ContinuationState
 from .interface import STICK, interval_measures
 from .mesh import H0_AT_SIZE_1
-from .model import CapModel, FixedApexGap, FixedForce, SlideAtForce
+from .model import CapModel, FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
 from .newton import NewtonOptions, newton
 
-__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "continuation", "approach_and_preload", "slide",
-           "run_load_path", "sliding_onset", "fully_sliding", "peeling_off"]
+__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "newton_options", "continuation", "approach", "approach_apex",
+           "spread_contact", "approach_and_preload", "slide", "run_load_path", "sliding_onset", "fully_sliding",
+           "peeling_off"]
 
 PHASES = ("approach", "preload", "slide")
 
@@ -64,6 +67,9 @@ class PathResult:
     reason: str = ""
     min_step: float = math.inf
     cutbacks: int = 0
+    value: float = math.nan  # load parameter of the last converged state (continuation only)
+    x_prev: np.ndarray | None = field(default=None, repr=False)  # the converged state one step before x
+    value_prev: float = math.nan  # its load parameter
 
 
 def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its: int, krylov_its: int,
@@ -85,7 +91,8 @@ def measure(model: CapModel, x: np.ndarray, phase: str, ubar: float, newton_its:
                       model.base_reaction(x))
 
 
-def _newton_options(model: CapModel) -> NewtonOptions:
+def newton_options(model: CapModel) -> NewtonOptions:
+    """Newton tolerances of the configuration."""
     s = model.params.solver
     return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
 
@@ -107,6 +114,7 @@ def continuation(
     on_breakpoint: Callable[[float, np.ndarray], None] | None = None,
     step_limit: Callable[[list[StepRecord], float], float] | None = None,
     ckpt: Checkpointer | None = None,
+    easy_iterations: int = 4,
 ) -> PathResult:
     """Adaptive continuation of the load parameter from ``start`` to ``end``.
 
@@ -114,12 +122,14 @@ def continuation(
     ``stop(record)`` may end the phase early with a status ("detached").
     Steps end exactly on every value in ``breakpoints``, where
     ``on_breakpoint(value, x)`` is called. ``step_limit(records, value)``
-    may cap the next step. With a checkpointer ``ckpt`` the stage is
-    numbered, saved every few steps, and replayed or resumed on a restart.
+    may cap the next step. The step grows by 1.5 after a solve of at most
+    ``easy_iterations`` Newton iterations. With a checkpointer ``ckpt`` the
+    stage is numbered, saved every few steps, and replayed or resumed on a
+    restart.
     """
     if ckpt is None:
         return _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress,
-                             stop, breakpoints, on_breakpoint, step_limit, None, None)
+                             stop, breakpoints, on_breakpoint, step_limit, None, None, easy_iterations)
     stage, mode = ckpt.begin_stage()
     if mode == "done":
         status, reason, cutbacks, smallest, x_end = ckpt.finished[stage]
@@ -129,18 +139,19 @@ def continuation(
         resume = ckpt.resume_state
         model.contact.anchors = None if ckpt.anchors is None else ckpt.anchors.copy()
     res = _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress, stop,
-                        breakpoints, on_breakpoint, step_limit, ckpt, resume)
+                        breakpoints, on_breakpoint, step_limit, ckpt, resume, easy_iterations)
     ckpt.end_stage(res.status, res.reason, res.cutbacks, res.min_step, res.x)
     return res
 
 
 def _continuation(model, x, constraint, start, end, first_step, phase, records, min_step, max_step, progress, stop,
-                  breakpoints, on_breakpoint, step_limit, ckpt, resume: ContinuationState | None) -> PathResult:
+                  breakpoints, on_breakpoint, step_limit, ckpt, resume: ContinuationState | None,
+                  easy_iterations: int = 4) -> PathResult:
     direction = 1.0 if end >= start else -1.0
     value, step = start, min(abs(first_step), max_step)
     x_prev, value_prev = None, None
     smallest, cutbacks = math.inf, 0
-    opts = _newton_options(model)
+    opts = newton_options(model)
     tol = 1e-12 * max(1.0, abs(end))
     pending = sorted((b for b in breakpoints if direction * (b - start) > tol and direction * (end - b) >= -tol),
                      key=lambda b: direction * b)
@@ -190,13 +201,62 @@ def _continuation(model, x, constraint, start, end, first_step, phase, records, 
             if on_breakpoint:
                 on_breakpoint(target, x)
         if stop and (status := stop(rec)):
-            return PathResult(records, x, status, f"{phase}: {status} at {value:.6g}", smallest, cutbacks)
-        if res.iterations <= 4:
+            return PathResult(records, x, status, f"{phase}: {status} at {value:.6g}", smallest, cutbacks, value, x_prev,
+                              math.nan if value_prev is None else value_prev)
+        if res.iterations <= easy_iterations:
             step = min(step * 1.5, max_step)
         if ckpt is not None:
             ckpt.after_step(lambda: ContinuationState(value, step, x, x_prev, value_prev, smallest, cutbacks, list(pending)),
                             model.solver, model.contact.anchors)
-    return PathResult(records, x, "completed", "", smallest, cutbacks)
+    return PathResult(records, x, "completed", "", smallest, cutbacks, value, x_prev,
+                      math.nan if value_prev is None else value_prev)
+
+
+def approach(model: CapModel, records: list[StepRecord], progress=None, ckpt: Checkpointer | None = None) -> PathResult:
+    """Approach from above the apex until adhesive contact forms.
+
+    The apex gap goes from ``approach_start_gap`` down to ``approach_end_gap``;
+    with ``approach_edge_step`` > 0 the contact then spreads under edge control
+    (:func:`spread_contact`) until Fn <= 0.
+    """
+    res = approach_apex(model, records, progress, ckpt)
+    if res.status != "completed" or model.params.loading.approach_edge_step == 0.0:
+        return res
+    res2 = spread_contact(model, res.x, 0.0, records, lambda rec: rec.Fn <= 0.0, progress, ckpt)
+    res2.cutbacks += res.cutbacks
+    res2.min_step = min(res.min_step, res2.min_step)
+    return res2
+
+
+def approach_apex(model: CapModel, records: list[StepRecord], progress=None, ckpt: Checkpointer | None = None) -> PathResult:
+    """The apex gap from ``approach_start_gap`` down to ``approach_end_gap``, starting undeformed."""
+    p = model.params
+    a, L = p.adhesion, p.loading
+    x = np.zeros(model.n_dofs + 1)
+    x[-1] = p.geometry.H + L.approach_start_gap
+    return continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach",
+                        records, min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress, ckpt=ckpt)
+
+
+def spread_contact(model: CapModel, x: np.ndarray, X_start: float, records: list[StepRecord],
+                   until: Callable[[StepRecord], bool], progress=None, ckpt: Checkpointer | None = None) -> PathResult:
+    """Spread the contact under edge control, from edge abscissa ``X_start`` until ``until(record)`` (status
+    completed, the edge abscissa in ``value``) or the end of the top surface.
+
+    The surface points at reference abscissa +-X are held at the approach's
+    end gap while X grows in steps of at most ``approach_edge_step``. X is the
+    contact half-width when the end gap is the contact gap g_max; the load is
+    a single-valued function of it through the snap-in, where force, h and
+    the apex gap all turn, and on through the pull-off point (JKR: P(a)).
+    """
+    L = model.params.loading
+    X_surface = model.mesh.nodes[model.mesh.surface_nodes[[0, -1]], 0]
+    X_end = float(np.min(np.abs(X_surface)))
+    step = L.approach_edge_step
+    # easy_iterations 6: each step moves a steep cohesive zone, Newton takes 5-7 iterations even for short steps
+    return continuation(model, x, lambda X: FixedEdgeGap(X, L.approach_end_gap), X_start, X_end, 0.25 * step, "approach",
+                        records, min_step=1e-4 * step, max_step=step, progress=progress,
+                        stop=lambda rec: "completed" if until(rec) else None, ckpt=ckpt, easy_iterations=6)
 
 
 def approach_and_preload(model: CapModel, progress=None, ckpt: Checkpointer | None = None) -> PathResult:
@@ -206,13 +266,10 @@ def approach_and_preload(model: CapModel, progress=None, ckpt: Checkpointer | No
     (``loading.retract_from``), as in the experiment.
     """
     p = model.params
-    a, L = p.adhesion, p.loading
+    L = p.loading
     records: list[StepRecord] = ckpt.records if ckpt is not None else []
-    x = np.zeros(model.n_dofs + 1)
-    x[-1] = p.geometry.H + L.approach_start_gap
-    # 1. approach: apex gap from the start gap down to the end gap (default g_eq)
-    res = continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach", records,
-                       min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress, ckpt=ckpt)
+    # 1. approach until contact forms
+    res = approach(model, records, progress, ckpt)
     if res.status != "completed":
         return res
     x, cut, smallest = res.x, res.cutbacks, res.min_step

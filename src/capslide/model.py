@@ -7,6 +7,11 @@ one scalar constraint G(x) = 0 that fixes the load path:
 * ``FixedForce(F*)``:   G = Fn(u, h) - F*    (force control)
 * ``FixedApexGap(g*)``: G = h - y_apex - g*  (local displacement control that
   follows the jump-in instability through its turning point)
+* ``FixedEdgeGap(X, g*)``: G = h - (y(-X) + y(X))/2 - g*, y(X) the current
+  height of the top-surface material point at reference abscissa X (linear
+  between surface nodes): holds the contact edge at X while the contact
+  spreads, a parameter that stays monotone where force, h and the apex gap
+  turn (the JKR load is a function of the half-width)
 * ``SlideAtForce(ubar, F*)``: G = Fn - F* with the substrate slid by ubar
 
 Each Newton step solves the bordered system [K c; d^T e]: with a solver that
@@ -28,7 +33,7 @@ from .linsolve import make_solver
 from .mesh import Mesh
 from .params import Parameters
 
-__all__ = ["FixedHeight", "FixedForce", "FixedApexGap", "SlideAtForce", "CapModel"]
+__all__ = ["FixedHeight", "FixedForce", "FixedApexGap", "FixedEdgeGap", "SlideAtForce", "CapModel"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +48,12 @@ class FixedForce:
 
 @dataclass(frozen=True)
 class FixedApexGap:
+    gap: float
+
+
+@dataclass(frozen=True)
+class FixedEdgeGap:
+    X: float  # reference abscissa of the held surface points +-X (L0)
     gap: float
 
 
@@ -99,6 +110,8 @@ class CapModel:
         apex = int(np.argmax(mesh.nodes[:, 1]))
         self.apex_node = apex
         self._apex_y = 2 * apex + 1
+        self._surface = mesh.surface_nodes
+        self._surface_X = mesh.nodes[self._surface, 0]
 
     # -- helpers --------------------------------------------------------
     def split(self, x: np.ndarray) -> tuple[np.ndarray, float]:
@@ -107,6 +120,23 @@ class CapModel:
     def apex_gap(self, x: np.ndarray) -> float:
         u, h = self.split(x)
         return h - (self.mesh.nodes[self.apex_node, 1] + u[self._apex_y])
+
+    def edge_weights(self, X: float) -> tuple[np.ndarray, np.ndarray]:
+        """y-DOFs and weights w of the mean height (y(-X) + y(X))/2 = sum w (Y + u_y) of the surface points at +-X."""
+        Xs = self._surface_X
+        if not abs(X) <= min(-Xs[0], Xs[-1]):
+            raise ValueError(f"edge abscissa {X:g} outside the top surface [{Xs[0]:g}, {Xs[-1]:g}]")
+        pts = np.array([-abs(X), abs(X)])
+        i = np.clip(np.searchsorted(Xs, pts, side="right") - 1, 0, len(Xs) - 2)
+        t = (pts - Xs[i]) / (Xs[i + 1] - Xs[i])
+        nodes = np.concatenate([self._surface[i], self._surface[i + 1]])
+        return 2 * nodes + 1, 0.5 * np.concatenate([1.0 - t, t])
+
+    def edge_gap(self, x: np.ndarray, X: float) -> float:
+        """Mean gap (L0) of the top-surface material points at reference abscissa +-X."""
+        dofs, w = self.edge_weights(X)
+        y = self.mesh.nodes.ravel()[dofs] + x[dofs]
+        return float(x[-1] - w @ y)
 
     def admissible(self, x: np.ndarray) -> bool:
         return self.bulk.min_jacobian(x[:-1]) > 0.0
@@ -119,6 +149,8 @@ class CapModel:
             return Fn - constraint.Fn
         if isinstance(constraint, FixedApexGap):
             return self.apex_gap(x) - constraint.gap
+        if isinstance(constraint, FixedEdgeGap):
+            return self.edge_gap(x, constraint.X) - constraint.gap
         raise TypeError(f"unknown constraint {constraint!r}")
 
     # -- Newton callables -------------------------------------------------
@@ -143,6 +175,10 @@ class CapModel:
         elif isinstance(constraint, (FixedForce, SlideAtForce)):
             d, e = lin.dFn_du.copy(), lin.dFn_dh
             d[self.bc.dofs] = 0.0
+        elif isinstance(constraint, FixedEdgeGap):
+            d, e = np.zeros(self.n_dofs), 1.0
+            dofs, w = self.edge_weights(constraint.X)
+            np.add.at(d, dofs, -w)
         else:  # FixedApexGap: G = h - Y_apex - u_apex,y - g*
             d, e = np.zeros(self.n_dofs), 1.0
             d[self._apex_y] = -1.0

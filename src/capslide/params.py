@@ -159,6 +159,7 @@ class Loading:
     approach_start_gap: float  # L0
     approach_end_gap: float  # L0
     approach_step: float  # L0
+    approach_edge_step: float  # L0; 0: no edge-controlled spreading stage
     force_step: float  # E L0
     min_force_step: float  # E L0
     retract_from: float  # E L0
@@ -239,6 +240,7 @@ class Parameters:
                 approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
                 approach_end_gap=load["approach_end_gap_over_g_eq"] * c["g_eq"],
                 approach_step=load["approach_step_over_r0"] * c["r0"],
+                approach_edge_step=float(load["approach_edge_step"]),
                 force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
                 retract_from=float(load["retract_from"]),
                 slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),

@@ -1,29 +1,41 @@
 """Normal-contact verification against Hertz and JKR line-contact solutions.
 
-A scene is swept through compressive line loads P = -Fn (largest first,
-then retracting, as in the experiment); at each load the FE half-width is
-compared with the closed form of :mod:`capslide.analytic`. The half-width
-is half the current length where g_n <= g_max (JKR: the edge of the
-surfaces held together; the tensile cohesive zone beyond it is small when
-the Maugis parameter is large) or where Tn > 0 (Hertz, repulsion only).
-The JKR load at the FE half-width is compared relative to the larger of
-its own size and the pull-off load |P_c| (the load scale of the JKR curve;
-near zero load a relative error of P itself is meaningless).
-With adhesion, the sweep finally retracts past the closed-form pull-off and
-reports the largest tensile force that still had an equilibrium.
+A scene is swept through compressive line loads P = -Fn; at each load the
+FE half-width is compared with the closed form of :mod:`capslide.analytic`.
+The half-width is half the current length where g_n <= g_max (JKR: the
+edge of the surfaces held together; the tensile cohesive zone beyond it is
+small when the Maugis parameter is large) or where Tn > 0 (Hertz,
+repulsion only). The JKR load at the FE half-width is compared relative to
+the larger of its own size and the pull-off load |P_c| (the load scale of
+the JKR curve; near zero load a relative error of P itself is meaningless).
+
+Two ways through the loads:
+
+* force control (Hertz; JKR scenes without ``loading.approach_edge_step``):
+  approach, the loads largest first, then a retraction past the closed-form
+  pull-off; the largest tensile force that still had an equilibrium is the
+  FE pull-off;
+* edge control (JKR scenes with ``loading.approach_edge_step``, stiff
+  short-range laws whose contact edge snaps under force control): one path
+  with the contact edge as the load parameter, from first contact through
+  the pull-off point (its largest tensile force is the FE pull-off) to the
+  largest compressive load, with an exact force-controlled equilibrium at
+  every load of the sweep.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import analytic
-from .loading import StepRecord, continuation
+from .loading import StepRecord, approach, approach_apex, continuation, measure, newton_options, spread_contact
 from .mesh import cap_mesh, cap_mesh_spec
-from .model import CapModel, FixedApexGap, FixedForce
+from .model import CapModel, FixedEdgeGap, FixedForce
+from .newton import newton
 from .params import Parameters
 
 __all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error"]
@@ -60,30 +72,22 @@ def pressure_error(rec: StepRecord, P: float, R: float, E_star: float) -> float:
 
 def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
     """Run the scene's load sweep and compare with the closed forms."""
-    mesh = cap_mesh(cap_mesh_spec(params))
-    model = CapModel(mesh, params)
+    model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
     a, L, g = params.adhesion, params.loading, params.geometry
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     adhesive = not params.contact.repulsion_only
     w = a.W_adh if adhesive else 0.0
-    records: list[StepRecord] = []
-    x = np.zeros(model.n_dofs + 1)
-    x[-1] = g.H + L.approach_start_gap
-    res = continuation(model, x, FixedApexGap, L.approach_start_gap, L.approach_end_gap, L.approach_step, "approach",
-                       records, min_step=1e-4 * a.r0, max_step=L.approach_step, progress=progress)
-    if res.status != "completed":
-        raise VerificationFailed(res.reason)
-    x = res.x
-    rows: list[VerificationRow] = []
     loads = sorted(params.config["verification"]["loads"], reverse=True)
+    records: list[StepRecord] = []
+    if adhesive and L.approach_edge_step > 0.0:
+        states, F_max, how = _edge_controlled_sweep(model, loads, records, progress)
+    else:
+        states, F_max, how = _force_controlled_sweep(model, loads, records, progress, adhesive)
     P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w) if adhesive else math.nan
     closed_form = {"R": g.R, "E_star": E_star, "w": w}  # P(a) = pi E* a^2/(4R) - sqrt(2 pi E* w a); w = 0: Hertz
+    rows: list[VerificationRow] = []
     for P in loads:
-        res = continuation(model, x, FixedForce, records[-1].Fn, -P, L.force_step, "preload", records,
-                           min_step=L.min_force_step, max_step=L.force_step, progress=progress)
-        if res.status != "completed":
-            raise VerificationFailed(f"at P = {P}: {res.reason}")
-        x, rec = res.x, records[-1]
+        rec = states[P]
         if adhesive:
             a_fe = 0.5 * rec.area
             rows.append(VerificationRow(scene, "half_width", P, a_fe, analytic.jkr_cylinder_half_width(P, g.R, E_star, w),
@@ -96,10 +100,117 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
             rows.append(VerificationRow(scene, "half_width", P, a_fe, float(analytic.hertz_line_half_width(P, g.R, E_star)),
                                         dict(closed_form)))
             rows.append(VerificationRow(scene, "pressure_L2", P, pressure_error(rec, P, g.R, E_star), 0.0))
-    if adhesive:  # retract past the closed-form pull-off: the last equilibrium is the FE pull-off
-        res = continuation(model, x, FixedForce, records[-1].Fn, -1.5 * P_c, L.force_step, "preload", records,
-                           min_step=L.min_force_step, max_step=L.force_step, progress=progress,
-                           stop=lambda r: "detached" if r.area < 1e-3 * g.R else None)
-        F_max = max(r.Fn for r in records)
-        rows.append(VerificationRow(scene, "pull_off", P_c, -F_max, P_c, {"status": res.status}))
+    if adhesive:
+        rows.append(VerificationRow(scene, "pull_off", P_c, -F_max, P_c, {"status": how}))
     return rows
+
+
+def _force_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress,
+                            adhesive: bool) -> tuple[dict[float, StepRecord], float, str]:
+    """Approach, then force control through the loads (largest compressive first); with adhesion, retract
+    past the closed-form pull-off: the largest tensile force with an equilibrium is the FE pull-off."""
+    L, g = model.params.loading, model.params.geometry
+    res = approach(model, records, progress)
+    if res.status != "completed":
+        raise VerificationFailed(res.reason)
+    x, states = res.x, {}
+    for P in loads:
+        res = continuation(model, x, FixedForce, records[-1].Fn, -P, L.force_step, "preload", records,
+                           min_step=L.min_force_step, max_step=L.force_step, progress=progress)
+        if res.status != "completed":
+            raise VerificationFailed(f"at P = {P}: {res.reason}")
+        x, states[P] = res.x, records[-1]
+    if not adhesive:
+        return states, math.nan, ""
+    E_star = analytic.effective_modulus(model.params.material.E, model.params.material.nu)
+    P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, model.params.adhesion.W_adh)
+    res = continuation(model, x, FixedForce, records[-1].Fn, -1.5 * P_c, L.force_step, "preload", records,
+                       min_step=L.min_force_step, max_step=L.force_step, progress=progress,
+                       stop=lambda r: "detached" if r.area < 1e-3 * g.R else None)
+    return states, max(r.Fn for r in records), res.status
+
+
+def _edge_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord],
+                           progress) -> tuple[dict[float, StepRecord], float, str]:
+    """Apex approach, then one edge-controlled path (:func:`capslide.loading.spread_contact`) from first contact
+    through the pull-off point to the largest compressive load; it stops on the stable branch (past the largest
+    tensile force) just beyond each load in turn, where :func:`_equilibrium_at_load` finds the equilibrium at
+    exactly that load between the two bracketing steps. The largest tensile force along the path is the FE
+    pull-off (under force control there is no equilibrium beyond it)."""
+    res = approach_apex(model, records, progress)
+    if res.status != "completed":
+        raise VerificationFailed(res.reason)
+    first = len(records)
+
+    def path_forces() -> list[float]:
+        return [r.Fn for r in records[first:] if r.phase == "approach"]
+
+    x, X, states = res.x, 0.0, {}
+    for P in sorted(loads):  # most tensile first
+        res = spread_contact(model, x, X, records, lambda rec: _past_peak(path_forces()) and -rec.Fn >= P, progress)
+        if res.status != "completed" or not res.reason:
+            raise VerificationFailed(f"at P = {P}: {res.reason or 'the contact edge reached the end of the top surface'}")
+        if P < -max(path_forces()):
+            raise VerificationFailed(f"P = {P} is more tensile than the FE pull-off load {-max(path_forces()):.6g}")
+        edge = [r for r in records[first:] if r.phase == "approach"]
+        bracket = ((res.value_prev, -edge[-2].Fn, res.x_prev), (res.value, -edge[-1].Fn, res.x))
+        states[P] = _equilibrium_at_load(model, bracket, P, records, progress)
+        x, X = res.x, res.value
+    return states, max(path_forces()), "largest tensile force along the edge-controlled path"
+
+
+def _past_peak(forces: list[float], n: int = 3) -> bool:
+    """Fn fell at each of the last ``n`` steps: the path is past its largest tensile force, on the stable branch."""
+    return len(forces) > n and all(b < a for a, b in zip(forces[-n - 1:-1], forces[-n:]))
+
+
+def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepRecord], progress,
+                         max_solves: int = 20) -> StepRecord:
+    """The equilibrium at load P (phase preload) between two edge-controlled states ``bracket`` = ((X0, P0, x0),
+    (X1, P1, x1)) with P0 < P <= P1: regula falsi (Illinois) on the edge abscissa X, each an edge-controlled solve
+    from the interpolated state, until the load is within 1e-4 |P_c| of P; then one Newton solve under force
+    control from there. (Force control straight from the bracket needs too many iterations for stiff laws: the
+    edge moves a steep cohesive zone by up to a whole step.)"""
+    t0 = time.perf_counter()
+    p = model.params
+    E_star = analytic.effective_modulus(p.material.E, p.material.nu)
+    tol = 1e-4 * abs(analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, p.adhesion.W_adh))
+    opts = newton_options(model)
+    (X0, P0, x0), (X1, P1, x1) = bracket
+    f0, f1 = P0 - P, P1 - P  # f0 < 0 <= f1: the load grows with X on the stable branch
+    w0, w1 = f0, f1  # the values the interpolation uses (Illinois: an end kept twice gets half its value)
+    x, side, its, lin = x1, 0, 0, 0
+    for _ in range(max_solves):
+        if min(abs(f0), abs(f1)) <= tol:
+            x = x1 if abs(f1) <= abs(f0) else x0
+            break
+        t = w0 / (w0 - w1)
+        X, guess = X0 + t * (X1 - X0), x0 + t * (x1 - x0)
+        c = FixedEdgeGap(X, p.loading.approach_end_gap)
+        res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), guess, opts, r_ref=1.0,
+                     admissible=model.admissible)
+        its, lin = its + res.iterations, lin + res.linear_iterations
+        if not res.converged:
+            raise VerificationFailed(f"at P = {P}: edge-controlled solve at X = {X:.6g} failed ({res.reason})")
+        f = -model.contact.force(res.x[:-1], res.x[-1], 0.0)[1] - P
+        if f > 0:
+            X1, f1, w1, x1 = X, f, f, res.x
+            w0 = 0.5 * w0 if side == 1 else w0
+            side = 1
+        else:
+            X0, f0, w0, x0 = X, f, f, res.x
+            w1 = 0.5 * w1 if side == -1 else w1
+            side = -1
+    else:
+        raise VerificationFailed(f"at P = {P}: load not bracketed to {tol:.2g} in {max_solves} edge-controlled solves")
+    c = FixedForce(-P)
+    res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x, opts, r_ref=1.0,
+                 admissible=model.admissible)
+    if not res.converged:
+        raise VerificationFailed(f"at P = {P}: force-controlled solve failed ({res.reason})")
+    rec = measure(model, res.x, "preload", 0.0, its + res.iterations, lin + res.linear_iterations,
+                  time.perf_counter() - t0)
+    records.append(rec)
+    if progress:
+        progress(rec)
+    return rec
