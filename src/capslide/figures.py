@@ -335,9 +335,12 @@ def fig_verification(tables):
         a_th = np.array([float(r["theory"]) for r in hw])
         c = dict(kv.split("=", 1) for kv in hw[0]["extra"].split(";") if "=" in kv)
         if {"R", "E_star", "w"} <= c.keys():  # the closed form as a smooth curve
-            a = np.linspace(0.95 * min(a_th.min(), a_fe.min()), 1.03 * max(a_th.max(), a_fe.max()), 200)
-            ax.plot(a, analytic.jkr_cylinder_load(a, float(c["R"]), float(c["E_star"]), float(c["w"])), "-", color=BLUE,
-                    label="closed form")
+            R, E_star, w = float(c["R"]), float(c["E_star"]), float(c["w"])
+            a_lo = 0.95 * min(a_th.min(), a_fe.min())
+            if w > 0:  # down past the critical half-width: the curve's minimum is the pull-off load
+                a_lo = min(a_lo, 0.6 * analytic.jkr_cylinder_critical_half_width(R, E_star, w))
+            a = np.linspace(a_lo, 1.03 * max(a_th.max(), a_fe.max()), 200)
+            ax.plot(a, analytic.jkr_cylinder_load(a, R, E_star, w), "-", color=BLUE, label="closed form")
         else:
             order = np.argsort(a_th)
             ax.plot(a_th[order], P[order], "-", color=BLUE, label="closed form")
@@ -346,8 +349,11 @@ def fig_verification(tables):
         for r in po:
             ax.axhline(float(r["theory"]), color="0.5", ls=":", lw=0.8)
             ax.axhline(float(r["fe"]), color=ORANGE, ls="--", lw=0.8)
-            ax.text(0.02, float(r["theory"]), " pull-off: closed form (dotted), FE (dashed)", fontsize=6, va="bottom",
-                    transform=ax.get_yaxis_transform())
+            ax.text(0.98, max(float(r["theory"]), float(r["fe"])), "pull-off: closed form (dotted), FE (dashed) ",
+                    fontsize=6, ha="right", va="bottom", transform=ax.get_yaxis_transform())
+            low = min(float(r["theory"]), float(r["fe"]))
+            top = ax.get_ylim()[1]
+            ax.set_ylim(low - 0.06 * (top - low), top)
         errors = f"largest errors: a {100 * _max_abs_error(rows, scene, 'half_width'):.2f}%"
         if any(r["scene"] == scene and r["quantity"] == "load_at_half_width" for r in rows):
             errors += f", P(a) {100 * _max_abs_error(rows, scene, 'load_at_half_width'):.2f}%"
