@@ -168,7 +168,7 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
                          max_solves: int = 20) -> StepRecord:
     """The equilibrium at load P (phase preload) between two edge-controlled states ``bracket`` = ((X0, P0, x0),
     (X1, P1, x1)) with P0 < P <= P1: regula falsi (Illinois) on the edge abscissa X, each an edge-controlled solve
-    from the interpolated state, until the load is within 1e-4 |P_c| of P; then one Newton solve under force
+    from the interpolated state (if that fails, from the nearer bracketing state), until the load is within 1e-4 |P_c| of P; then one Newton solve under force
     control from there. (Force control straight from the bracket needs too many iterations for stiff laws: the
     edge moves a steep cohesive zone by up to a whole step.)"""
     t0 = time.perf_counter()
@@ -177,6 +177,12 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
     tol = 1e-4 * abs(analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, p.adhesion.W_adh))
     opts = newton_options(model)
     (X0, P0, x0), (X1, P1, x1) = bracket
+    if not P0 < P <= P1:
+        a = p.adhesion
+        raise VerificationFailed(f"at P = {P}: the load along the edge path is not monotone here ({P0:.6g}, {P1:.6g}); "
+                                 f"a mesh too coarse for the cohesive zone traps the edge (E* w / T_max^2 = "
+                                 f"{E_star * a.W_adh / a.T_max ** 2:.3g} L0, surface elements "
+                                 f"{cap_mesh_spec(p).h0:.3g} L0)")
     f0, f1 = P0 - P, P1 - P  # f0 < 0 <= f1: the load grows with X on the stable branch
     w0, w1 = f0, f1  # the values the interpolation uses (Illinois: an end kept twice gets half its value)
     x, side, its, lin = x1, 0, 0, 0
@@ -190,6 +196,10 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
         res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), guess, opts, r_ref=1.0,
                      admissible=model.admissible)
         its, lin = its + res.iterations, lin + res.linear_iterations
+        if not res.converged:  # once more from the nearer bracketing state
+            res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x0 if t < 0.5 else x1, opts,
+                         r_ref=1.0, admissible=model.admissible)
+            its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:
             raise VerificationFailed(f"at P = {P}: edge-controlled solve at X = {X:.6g} failed ({res.reason})")
         f = -model.contact.force(res.x[:-1], res.x[-1], 0.0)[1] - P
