@@ -26,7 +26,7 @@ from .mesh import H0_AT_SIZE_1
 from .model import CapModel, FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
 from .newton import NewtonOptions, newton
 
-__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "newton_options", "continuation", "approach", "approach_apex",
+__all__ = ["PHASES", "StepRecord", "PathResult", "measure", "newton_options", "solve_constrained", "continuation", "approach", "approach_apex",
            "spread_contact", "approach_and_preload", "slide", "run_load_path", "sliding_onset", "fully_sliding",
            "peeling_off"]
 
@@ -95,6 +95,12 @@ def newton_options(model: CapModel) -> NewtonOptions:
     """Newton tolerances of the configuration."""
     s = model.params.solver
     return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
+
+
+def solve_constrained(model: CapModel, constraint, x0: np.ndarray, opts: NewtonOptions):
+    """Newton from x0 on the cap's equations plus the scalar ``constraint`` (forces in E L0, r_ref = 1)."""
+    return newton(lambda z: model.residual(z, constraint), lambda z: model.linearize(z, constraint), x0, opts,
+                  r_ref=1.0, admissible=model.admissible)
 
 
 def continuation(
@@ -175,8 +181,7 @@ def _continuation(model, x, constraint, start, end, first_step, phase, records, 
             if not model.admissible(x0):
                 x0 = x
         c = constraint(target)
-        res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x0, opts, r_ref=1.0,
-                     admissible=model.admissible)
+        res = solve_constrained(model, c, x0, opts)
         if not res.converged:
             cutbacks += 1
             step *= 0.5

@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import analytic
-from .loading import StepRecord, approach, approach_apex, continuation, measure, newton_options, spread_contact
+from .loading import (StepRecord, approach, approach_apex, continuation, measure, newton_options, solve_constrained,
+                      spread_contact)
 from .mesh import cap_mesh, cap_mesh_spec
 from .model import CapModel, FixedEdgeGap, FixedForce
-from .newton import newton
 from .params import Parameters
 
 __all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error"]
@@ -193,12 +193,10 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
         t = w0 / (w0 - w1)
         X, guess = X0 + t * (X1 - X0), x0 + t * (x1 - x0)
         c = FixedEdgeGap(X, p.loading.approach_end_gap)
-        res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), guess, opts, r_ref=1.0,
-                     admissible=model.admissible)
+        res = solve_constrained(model, c, guess, opts)
         its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:  # once more from the nearer bracketing state
-            res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x0 if t < 0.5 else x1, opts,
-                         r_ref=1.0, admissible=model.admissible)
+            res = solve_constrained(model, c, x0 if t < 0.5 else x1, opts)
             its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:
             raise VerificationFailed(f"at P = {P}: edge-controlled solve at X = {X:.6g} failed ({res.reason})")
@@ -214,8 +212,7 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
     else:
         raise VerificationFailed(f"at P = {P}: load not bracketed to {tol:.2g} in {max_solves} edge-controlled solves")
     c = FixedForce(-P)
-    res = newton(lambda z: model.residual(z, c), lambda z: model.linearize(z, c), x, opts, r_ref=1.0,
-                 admissible=model.admissible)
+    res = solve_constrained(model, c, x, opts)
     if not res.converged:
         raise VerificationFailed(f"at P = {P}: force-controlled solve failed ({res.reason})")
     rec = measure(model, res.x, "preload", 0.0, its + res.iterations, lin + res.linear_iterations,
