@@ -12,7 +12,7 @@ from capslide.loading import approach
 from capslide.mesh import cap_mesh, cap_mesh_spec
 from capslide.model import CapModel
 from capslide.params import Parameters
-from capslide.verification import VerificationRow, _edge_controlled_sweep
+from capslide.verification import VerificationRow, _edge_controlled_sweep, sweep
 
 R, E_STAR, W = 200.0, 1.0 / 0.84, 0.013478
 
@@ -66,9 +66,10 @@ def test_verification_figure_from_tables(tmp_path):
     assert all(p.stat().st_size > 5000 for p in out)
 
 
-# A small, stiff JKR scene: T_max 4x the paper's (interaction range r0 = 0.033 L0), R = 20 L0, Maugis parameter 14.
-STIFF_SCENE = ["geometry.R=20", "geometry.H=15", "mesh.band_half_width=6", "mesh.size=4", "adhesion.T_max=1.32e6",
-               "loading.approach_end_gap_over_g_eq=1.2", "loading.approach_edge_step=0.15"]
+# A small, stiff JKR scene: T_max 4x the paper's (interaction range r0 = 0.033 L0), R = 20 L0, Maugis parameter 14;
+# Q1, not the scene file's Q2: these tests are about the load path, and Q1 is the cheaper element.
+STIFF_SCENE = ["geometry.R=20", "geometry.H=15", "mesh.band_half_width=6", "mesh.element=Q1", "mesh.size=4",
+               "adhesion.T_max=1.32e6", "loading.approach_end_gap_over_g_eq=1.2", "loading.approach_edge_step=0.15"]
 
 
 def _stiff_scene(loads, overrides=()):
@@ -111,3 +112,14 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     assert 0.5 * states[0.0].area == pytest.approx(a0, rel=0.03)
     P_c = analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, w)
     assert -F_max == pytest.approx(P_c, rel=0.05)
+
+
+def test_hertz_scene_on_a_coarse_mesh():
+    """The Hertz scene (Q2) at one load on a mesh 2x coarser than the scene's, against sqrt(4 P R / (pi E*)) and
+    the Hertz ellipse. The issue asks for 2 % (half-width) and 5 % (pressure, L2 of p0); this mesh gives 0.04 % and
+    0.4 %, so 0.5 % and 1 % are asserted: Q1 on the same mesh (-1.3 %, 1.7 %) fails them. About 8 s."""
+    cfg = load_config([ROOT / "config" / "scenes" / "hertz.yaml"], ["mesh.size=40", "verification.loads=[0.3]"])
+    rows = {r.quantity: r for r in sweep(Parameters.from_config(cfg), "hertz")}
+    assert rows["half_width"].theory == pytest.approx(8.0107, rel=1e-4)  # a/R = 0.04
+    assert abs(rows["half_width"].rel_error) < 0.005
+    assert 0.0 < rows["pressure_L2"].fe < 0.01

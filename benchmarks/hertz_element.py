@@ -1,0 +1,77 @@
+"""Study: Hertz half-width by element type, in current and reference coordinates.
+
+Runs the Hertz scene (repulsion only) at the JKR scene's geometry (R = 1600 L0,
+H = 1500 L0, band 95 L0; contact half-widths 30-80 L0, a/R = 0.02-0.05) for
+each mesh variant and prints a Markdown table: contact half-width against
+a = sqrt(4 P R / (pi E*)), measured in the current configuration (what the
+verification reports) and on the reference surface (the material points in
+contact; small-strain theory does not tell the two apart, they differ by the
+tangential surface displacement at the edge, -(1 - 2 nu)(1 + nu) P / (2 E) on
+a half-space, Johnson 1985, section 2.2), the L2 pressure error, DOF and time.
+
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/hertz_element.py --variant Q1:10 --variant Q2:20 --loads 1.5
+
+A variant is ELEMENT:SIZE[:MAX_SIZE_OVER_H]. One case per variant and load
+set; about 10-20 min per variant on one core.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from capslide import analytic, contact
+from capslide.config import load_config
+from capslide.interface import interval_measures
+from capslide.mesh import cap_mesh, cap_mesh_spec
+from capslide.model import CapModel
+from capslide.params import Parameters
+from capslide.verification import _force_controlled_sweep, pressure_error
+
+ROOT = Path(__file__).resolve().parents[1]
+GEOMETRY = ["geometry.R=1600", "geometry.H=1500", "mesh.band_half_width=95"]
+
+
+def compressive_half_widths(model: CapModel, rec) -> tuple[float, float]:
+    """Half the length where Tn > 0, on the current and on the reference surface (L0)."""
+    a = model.params.adhesion
+    Tn_full, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
+    _, X = model.contact.gaps(np.zeros(model.contact.n_dofs), 0.0)
+    current = np.column_stack([rec.x_surface, rec.y_surface])
+    return (0.5 * interval_measures(current, -Tn_full)[0], 0.5 * interval_measures(X.reshape(-1, 2), -Tn_full)[0])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--variant", action="append", default=[], metavar="EL:SIZE[:MAX]")
+    ap.add_argument("--loads", type=float, nargs="+", default=[0.6, 1.5, 2.5, 3.7], metavar="P")
+    a = ap.parse_args()
+    print("| variant | DOF | P | a/R | half-width error, current | reference | pressure L2 / p0 | time (s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for variant in a.variant or ["Q1:10", "Q2:20"]:
+        element, size, *rest = variant.split(":")
+        overrides = [*GEOMETRY, f"mesh.element={element}", f"mesh.size={size}",
+                     f"verification.loads={sorted(a.loads, reverse=True)}"]
+        if rest:
+            overrides.append(f"mesh.max_size_over_H={rest[0]}")
+        cfg = load_config([ROOT / "config" / "scenes" / "hertz.yaml"], overrides)  # as `capslide verify`
+        params = Parameters.from_config(cfg)
+        t0 = time.perf_counter()
+        model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
+        states, _, _ = _force_controlled_sweep(model, sorted(a.loads, reverse=True), [], None, adhesive=False)
+        wall = time.perf_counter() - t0
+        R = params.geometry.R
+        E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+        for P in sorted(a.loads):
+            a_h = float(analytic.hertz_line_half_width(P, R, E_star))
+            cur, ref = compressive_half_widths(model, states[P])
+            print(f"| {variant} | {model.contact.n_dofs:,} | {P:g} | {a_h / R:.3f} | {100 * (cur / a_h - 1):+.2f} % "
+                  f"| {100 * (ref / a_h - 1):+.2f} % | {100 * pressure_error(states[P], P, R, E_star):.2f} % "
+                  f"| {wall:.0f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
