@@ -35,41 +35,41 @@ ROOT = Path(__file__).resolve().parents[1]
 GEOMETRY = ["geometry.R=1600", "geometry.H=1500", "mesh.band_half_width=95"]
 
 
-def compressive_half_widths(model: CapModel, rec) -> tuple[float, float]:
-    """Half the length where Tn > 0, on the current and on the reference surface (L0)."""
+def reference_half_width(model: CapModel, rec) -> float:
+    """Half the length of the reference surface whose points have Tn > 0 (L0); the current one is
+    ``rec.area_compressive / 2``, measured the same way (:func:`capslide.loading.measure`)."""
     a = model.params.adhesion
     Tn_full, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
     _, X = model.contact.gaps(np.zeros(model.contact.n_dofs), 0.0)
-    current = np.column_stack([rec.x_surface, rec.y_surface])
-    return (0.5 * interval_measures(current, -Tn_full)[0], 0.5 * interval_measures(X.reshape(-1, 2), -Tn_full)[0])
+    return 0.5 * interval_measures(X.reshape(-1, 2), -Tn_full)[0]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--variant", action="append", default=[], metavar="EL:SIZE[:MAX]")
     ap.add_argument("--loads", type=float, nargs="+", default=[0.6, 1.5, 2.5, 3.7], metavar="P")
-    a = ap.parse_args()
+    args = ap.parse_args()
+    loads = sorted(args.loads, reverse=True)
     print("| variant | DOF | P | a/R | half-width error, current | reference | pressure L2 / p0 | time (s) |")
     print("|---|---|---|---|---|---|---|---|")
-    for variant in a.variant or ["Q1:10", "Q2:20"]:
+    for variant in args.variant or ["Q1:10", "Q2:20"]:
         element, size, *rest = variant.split(":")
-        overrides = [*GEOMETRY, f"mesh.element={element}", f"mesh.size={size}",
-                     f"verification.loads={sorted(a.loads, reverse=True)}"]
+        overrides = [*GEOMETRY, f"mesh.element={element}", f"mesh.size={size}", f"verification.loads={loads}"]
         if rest:
             overrides.append(f"mesh.max_size_over_H={rest[0]}")
-        cfg = load_config([ROOT / "config" / "scenes" / "hertz.yaml"], overrides)  # as `capslide verify`
-        params = Parameters.from_config(cfg)
+        params = Parameters.from_config(load_config([ROOT / "config" / "scenes" / "hertz.yaml"], overrides))
         t0 = time.perf_counter()
         model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
-        states, _, _ = _force_controlled_sweep(model, sorted(a.loads, reverse=True), [], None, adhesive=False)
+        states, _, _ = _force_controlled_sweep(model, loads, [], None, adhesive=False)
         wall = time.perf_counter() - t0
         R = params.geometry.R
         E_star = analytic.effective_modulus(params.material.E, params.material.nu)
-        for P in sorted(a.loads):
+        for P in reversed(loads):
+            rec = states[P]
             a_h = float(analytic.hertz_line_half_width(P, R, E_star))
-            cur, ref = compressive_half_widths(model, states[P])
+            cur, ref = 0.5 * rec.area_compressive, reference_half_width(model, rec)
             print(f"| {variant} | {model.contact.n_dofs:,} | {P:g} | {a_h / R:.3f} | {100 * (cur / a_h - 1):+.2f} % "
-                  f"| {100 * (ref / a_h - 1):+.2f} % | {100 * pressure_error(states[P], P, R, E_star):.2f} % "
+                  f"| {100 * (ref / a_h - 1):+.2f} % | {100 * pressure_error(rec, P, R, E_star):.2f} % "
                   f"| {wall:.0f} |", flush=True)
 
 
