@@ -29,9 +29,11 @@ convergence: setup
 	$(BIN)/snakemake --cores $(CORES) convergence
 
 test: setup
+	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/python -m pytest -m "not slow"
 
 test-all: setup
+	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/python -m pytest
 
 lock: setup

@@ -18,10 +18,10 @@ import time
 
 import numpy as np
 
-from capslide.assembly import BulkForm, Dirichlet, rigid_body_modes
-from capslide.linsolve import AMGSolver, DirectSolver, LUKrylovSolver
-from capslide.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh
+from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
+from capslide.fem.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh
 from capslide.params import lame_plane_strain
+from capslide.solvers.linsolve import AMGSolver, DirectSolver, LUKrylovSolver
 
 
 def median_time(fn, repeats):
@@ -64,19 +64,19 @@ def run(sizes, repeats, const_nullspace_sizes):
         B = rigid_body_modes(mesh.nodes)
 
         amg = AMGSolver(near_null_space=B, symmetric=True, rtol=1e-8)
-        t_setup, _ = median_time(lambda: amg._setup(A0), repeats)
+        t_setup, _ = median_time(lambda: amg.setup(A0), repeats)
         t_fresh, (x, info_fresh) = median_time(lambda: amg.solve(A0, b), repeats)
         t_reuse, (x, info_reuse) = median_time(lambda: amg.solve(A1, b), repeats)
         if size in const_nullspace_sizes:
             plain = AMGSolver(near_null_space=None, symmetric=True, rtol=1e-8)
-            plain._setup(A0)
+            plain.setup(A0)
             t_plain, (_, info_plain) = median_time(lambda: plain.solve(A0, b), 1)
             plain_txt = f"{t_plain:.2f} ({info_plain.iterations})"
         else:
             plain_txt = "-"
 
         lu = LUKrylovSolver(rtol=1e-8)
-        t_factor, _ = median_time(lambda: lu._factor(A0), repeats)
+        t_factor, _ = median_time(lambda: lu.factor(A0), repeats)
         t_lu_reuse, (_, info_lu) = median_time(lambda: lu.solve(A1, b), repeats)
         direct = DirectSolver()
         t_direct, (_, info_direct) = median_time(lambda: direct.solve(A1, b), repeats)
@@ -84,7 +84,8 @@ def run(sizes, repeats, const_nullspace_sizes):
                      info_reuse.iterations, plain_txt, t_factor, t_lu_reuse, info_lu.iterations, t_direct,
                      info_direct.solve_time))
         print(f"size {size}: done ({mesh.n_dofs} DOF)", flush=True)
-    header = ("| cells | DOF | res+tangent | res only | AMG setup | AMG solve (its) | AMG reused (its) | AMG const. null space (its) "
+    header = ("| cells | DOF | res+tangent | res only | AMG setup | AMG solve (its) | AMG reused (its) "
+              "| AMG const. null space (its) "
               "| LU factor | LU-GMRES reused (its) | SuperLU factor+solve | of which solve | AMG solve / DOF (us) |")
     print()
     print(header)

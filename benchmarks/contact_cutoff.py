@@ -14,8 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from capslide.config import load_config
-from capslide.mesh import cap_mesh, cap_mesh_spec
-from capslide.model import CapModel, FixedForce
+from capslide.model.build import build_model
+from capslide.model.constraints import FixedForce
+from capslide.model.system import History
 from capslide.params import Parameters
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
@@ -26,7 +27,7 @@ def main():
     print("|---|---|---|---|---|")
     for far in (5.0, 20.0, 1e6):
         p = Parameters.from_config(load_config([CONFIG], [f"contact.far_gap_over_r0={far}", "solver.linear=direct"]))
-        model = CapModel(cap_mesh(cap_mesh_spec(p)), p)
+        model = build_model(p)
         x = np.zeros(model.n_dofs + 1)
         x[-1] = p.geometry.H + p.adhesion.g_eq
         g, _ = model.contact.gaps(x[:-1], x[-1])
@@ -37,7 +38,7 @@ def main():
             model.contact.linearize(x[:-1], x[-1])
             t_c.append(time.perf_counter() - t)
             t = time.perf_counter()
-            model.linearize(x, FixedForce(0.0))
+            model.linearize(x, FixedForce(0.0), History())
             t_all.append(time.perf_counter() - t)
         print(f"| {far:g} | {n_act} | {len(g)} | {statistics.median(t_c):.4f} | {statistics.median(t_all):.4f} |")
 

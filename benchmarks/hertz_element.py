@@ -23,13 +23,13 @@ from pathlib import Path
 
 import numpy as np
 
-from capslide import analytic, contact
 from capslide.config import load_config
-from capslide.interface import interval_measures
-from capslide.mesh import cap_mesh, cap_mesh_spec
-from capslide.model import CapModel
+from capslide.laws import analytic, contact
+from capslide.loadpath.measures import interval_measures
+from capslide.model.build import build_model
+from capslide.model.system import CapModel
 from capslide.params import Parameters
-from capslide.verification import _force_controlled_sweep, pressure_error
+from capslide.studies.verification import force_controlled_sweep, pressure_error
 
 ROOT = Path(__file__).resolve().parents[1]
 GEOMETRY = ["geometry.R=1600", "geometry.H=1500", "mesh.band_half_width=95"]
@@ -37,7 +37,7 @@ GEOMETRY = ["geometry.R=1600", "geometry.H=1500", "mesh.band_half_width=95"]
 
 def reference_half_width(model: CapModel, rec) -> float:
     """Half the length of the reference surface whose points have Tn > 0 (L0); the current one is
-    ``rec.area_compressive / 2``, measured the same way (:func:`capslide.loading.measure`)."""
+    ``rec.area_compressive / 2``, measured the same way (:func:`capslide.loadpath.measures.measure`)."""
     a = model.params.adhesion
     Tn_full, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
     _, X = model.contact.gaps(np.zeros(model.contact.n_dofs), 0.0)
@@ -59,8 +59,8 @@ def main():
             overrides.append(f"mesh.max_size_over_H={rest[0]}")
         params = Parameters.from_config(load_config([ROOT / "config" / "scenes" / "hertz.yaml"], overrides))
         t0 = time.perf_counter()
-        model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
-        states, _, _ = _force_controlled_sweep(model, loads, [], None, adhesive=False)
+        model = build_model(params)
+        states, _, _ = force_controlled_sweep(model, loads, [], None, adhesive=False)
         wall = time.perf_counter() - t0
         R = params.geometry.R
         E_star = analytic.effective_modulus(params.material.E, params.material.nu)

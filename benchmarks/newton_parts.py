@@ -19,10 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from capslide import material
 from capslide.config import load_config
-from capslide.mesh import cap_mesh, cap_mesh_spec
-from capslide.model import CapModel, FixedHeight
+from capslide.laws import material
+from capslide.model.build import build_model
+from capslide.model.constraints import FixedHeight
+from capslide.model.system import History
 from capslide.params import Parameters
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
@@ -36,7 +37,7 @@ def main():
     a = ap.parse_args()
     params = Parameters.from_config(load_config([CONFIG], [f"mesh.size={a.size}", "mesh.band_half_width=11.3516",
                                                            *a.overrides]))
-    model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
+    model = build_model(params)
     bulk = model.bulk
     x = np.zeros(model.n_dofs + 1)
     x[:-1] = 1e-4 * np.random.default_rng(0).standard_normal(model.n_dofs)
@@ -44,7 +45,7 @@ def main():
     u, h, c = x[:-1], x[-1], FixedHeight(x[-1])
     F = bulk.deformation_gradient(u)
     P, A = material.first_piola_and_tangent(F, bulk.lam, bulk.mu)
-    K_e = bulk._element_tangents(A)
+    K_e = bulk.element_tangents(A)
     lin = model.contact.linearize(u, h, 0.0)
 
     def fresh(fn):  # a new state each call: no cached deformation gradient
@@ -56,15 +57,15 @@ def main():
     parts = {
         "deformation gradient F": fresh(lambda: bulk.deformation_gradient(x[:-1])),
         "first Piola stress P(F)": lambda: material.first_piola(F, bulk.lam, bulk.mu),
-        "internal forces from P": lambda: bulk._internal_force(P),
+        "internal forces from P": lambda: bulk.internal_force(P),
         "P and tangent A(F)": lambda: material.first_piola_and_tangent(F, bulk.lam, bulk.mu),
-        "element tangents from A": lambda: bulk._element_tangents(A),
+        "element tangents from A": lambda: bulk.element_tangents(A),
         "CSR refill": lambda: bulk.pattern.values(K_e),
         "contact force": lambda: model.contact.force(u, h, 0.0),
         "contact linearization": lambda: model.contact.linearize(u, h, 0.0),
-        "model.residual (line search)": fresh(lambda: model.residual(x, c)),
+        "model.residual (line search)": fresh(lambda: model.residual(x, c, History())),
         "model.admissible (min det F)": fresh(lambda: model.admissible(x)),
-        "model.linearize": fresh(lambda: model.linearize(x, c)),
+        "model.linearize": fresh(lambda: model.linearize(x, c, History())),
     }
     print(f"{params.mesh.element}, mesh.size {a.size}: {model.n_dofs + 1:,} DOF, {model.mesh.n_cells:,} cells, "
           f"{len(lin.active_segments)} of {len(model.contact.seg_dofs)} surface segments active; "

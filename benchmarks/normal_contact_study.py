@@ -14,11 +14,11 @@ import argparse
 import time
 from pathlib import Path
 
-from capslide import analytic
 from capslide.config import load_config
-from capslide.loading import approach_and_preload
-from capslide.mesh import cap_mesh, cap_mesh_spec
-from capslide.model import CapModel
+from capslide.laws import analytic
+from capslide.loadpath.cap import load_path
+from capslide.loadpath.continuation import drain
+from capslide.model.build import build_model
 from capslide.params import Parameters
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
@@ -27,17 +27,19 @@ CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
 def run(size: float, gauss: int, preload: float):
     p = Parameters.from_config(load_config([CONFIG], [f"mesh.size={size}", f"mesh.surface_gauss_points={gauss}",
                                                       f"loading.preload={preload}"]))
-    mesh = cap_mesh(cap_mesh_spec(p))
+    model = build_model(p)
+    mesh = model.mesh
     t = time.perf_counter()
-    res = approach_and_preload(CapModel(mesh, p))
-    rec = res.records[-1]
+    records = []
+    end = drain(load_path(model, stop_before="slide"), lambda step: records.append(step.record))
+    rec = records[-1]
     E_star = analytic.effective_modulus(p.material.E, p.material.nu)
     try:
         a_jkr = analytic.jkr_cylinder_half_width(-preload, p.geometry.R, E_star, p.adhesion.W_adh)
     except ValueError:
         a_jkr = float("nan")
-    return (preload, size, gauss, mesh.n_dofs, res.status, rec.Fn, rec.area, rec.area / 2, a_jkr, rec.area_compressive,
-            len(res.records), time.perf_counter() - t)
+    return (preload, size, gauss, mesh.n_dofs, end.status.label, rec.Fn, rec.area, rec.area / 2, a_jkr, rec.area_compressive,
+            len(records), time.perf_counter() - t)
 
 
 def main():
@@ -47,7 +49,8 @@ def main():
     ap.add_argument("--preloads", type=float, nargs="+", default=[-0.288, 0.0, 0.288])
     a = ap.parse_args()
     rows = [run(s, g, f) for f in a.preloads for s in a.sizes for g in a.gauss]
-    print("| Fn* | mesh.size | Gauss pts | DOF | status | Fn reached | area A | A/2 | 2D JKR half-width | compressive area | steps | wall (s) |")
+    print("| Fn* | mesh.size | Gauss pts | DOF | status | Fn reached | area A | A/2 | 2D JKR half-width | compressive area "
+          "| steps | wall (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r[0]:+.3f} | {r[1]:g} | {r[2]} | {r[3]:,} | {r[4]} | {r[5]:+.6f} | {r[6]:.5f} | {r[7]:.4f} | {r[8]:.4f} "

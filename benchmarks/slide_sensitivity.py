@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from capslide.case import run_case
 from capslide.config import load_config
+from capslide.driver.case import run_case
 from capslide.params import Parameters
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"

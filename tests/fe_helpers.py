@@ -2,19 +2,20 @@
 
 import numpy as np
 
-from capslide.assembly import BulkForm, Dirichlet
-from capslide.linsolve import make_solver
-from capslide.newton import NewtonOptions, newton
+from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.params import lame_plane_strain
+from capslide.solvers.linsolve import make_solver
+from capslide.solvers.newton import NewtonOptions, newton
 
 LAM, MU = lame_plane_strain(1.0, 0.4)
 
 
-def solve_dirichlet(mesh, nodes, values, solver="direct", options=NewtonOptions(), form=None, steps=4):
+def solve_dirichlet(mesh, nodes, values, solver="direct", options=None, form=None, steps=4):
     """Prescribe u[nodes] = values (n, 2) in ``steps`` equal load steps, return (u, last result, form)."""
     form = form or BulkForm(mesh, LAM, MU)
+    options = options or NewtonOptions()
     bc = Dirichlet.on_nodes(np.asarray(nodes), form.pattern)
-    lin = make_solver(solver, mesh.nodes)
+    lin = make_solver(solver, near_null_space=rigid_body_modes(mesh.nodes))
     u = np.zeros(mesh.n_dofs)
 
     def residual(u):

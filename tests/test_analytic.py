@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from capslide import analytic
+from capslide.laws import analytic
 
 R, E_star, w = 47.1, 1 / (1 - 0.4**2), 0.0135
 

@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from capslide.assembly import BulkForm, cell_dofs, rigid_body_modes
-from capslide.mesh import CapMeshSpec, cap_mesh, rectangle_mesh
+from capslide.fem.assembly import BulkForm, cell_dofs, rigid_body_modes
+from capslide.fem.mesh import CapMeshSpec, cap_mesh, rectangle_mesh
+
 from fe_helpers import LAM, MU, solve_dirichlet
 
 

@@ -2,7 +2,7 @@
 
 import pytest
 
-from capslide.atomic import replacing
+from capslide.io.atomic import replacing
 
 
 def test_replacing_renames_on_success_and_cleans_up_on_failure(tmp_path):

@@ -1,19 +1,44 @@
-"""Command-line interface: constants as JSON, one-line errors for bad input."""
+"""Command-line interface: constants as JSON, one-line errors for bad input (in this process: capslide.cli.main)."""
 
 import json
 import subprocess
 import sys
+from dataclasses import dataclass
 
 import pytest
+
+from capslide.cli import main
 
 from conftest import PAPER_CONFIG
 
 
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "capslide", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+@dataclass
+class Completed:
+    returncode: int
+    stdout: str
+    stderr: str
 
 
-def test_constants_json():
+@pytest.fixture()
+def run(capsys):
+    """``capslide ARGS`` in this process: exit code and what it printed."""
+
+    def call(*args):
+        capsys.readouterr()
+        code = main([str(a) for a in args])
+        out, err = capsys.readouterr()
+        return Completed(code, out, err)
+
+    return call
+
+
+def test_the_entry_point_runs_as_a_program():
+    res = subprocess.run([sys.executable, "-m", "capslide", "constants", str(PAPER_CONFIG), "--set", "material.nu=0.6"],
+                         capture_output=True, text=True)
+    assert res.returncode == 2 and res.stderr.startswith("capslide: error: material.nu = 0.6") and not res.stdout
+
+
+def test_constants_json(run):
     res = run("constants", PAPER_CONFIG, "--set", "friction.model=EA", "--set", "friction.s_cut=0")
     assert res.returncode == 0, res.stderr
     data = json.loads(res.stdout)
@@ -51,7 +76,7 @@ BAD_INPUT = [
 
 
 @pytest.mark.parametrize("extra, words", BAD_INPUT, ids=[" ".join(b[0]) for b in BAD_INPUT])
-def test_bad_overrides(extra, words):
+def test_bad_overrides(run, extra, words):
     res = run("constants", PAPER_CONFIG, *extra)
     assert res.returncode == 2
     assert res.stdout == ""
@@ -62,7 +87,7 @@ def test_bad_overrides(extra, words):
         assert word in lines[0], (word, lines[0])
 
 
-def test_missing_section_and_bad_files(tmp_path):
+def test_missing_section_and_bad_files(run, tmp_path):
     text = PAPER_CONFIG.read_text()
     no_friction = tmp_path / "nofriction.yaml"
     no_friction.write_text(text.replace("friction:", "friction_gone:"))
@@ -85,7 +110,7 @@ def test_missing_section_and_bad_files(tmp_path):
     assert res.returncode == 2 and "missing key 'material.E'" in res.stderr
 
 
-def test_figure_bad_output_leaves_nothing(tmp_path):
+def test_figure_bad_output_leaves_nothing(run, tmp_path):
     res = run("figure", "Tn", PAPER_CONFIG, "-o", tmp_path / "fig.jpg2")
     assert res.returncode == 2 and "unsupported file type" in res.stderr
     res = run("figure", "NoSuchFigure", PAPER_CONFIG, "-o", tmp_path / "fig.png")
@@ -112,7 +137,7 @@ BAD_RUNS = [
 
 
 @pytest.mark.parametrize("argv, words", BAD_RUNS, ids=[" ".join(map(str, b[0][:1] + b[0][-1:])) for b in BAD_RUNS])
-def test_bad_command_lines(tmp_path, argv, words):
+def test_bad_command_lines(run, tmp_path, argv, words):
     (tmp_path / "afile").write_text("not netCDF\n")
     (tmp_path / "adir.nc").mkdir()
     before = sorted(tmp_path.rglob("*"))
@@ -125,7 +150,7 @@ def test_bad_command_lines(tmp_path, argv, words):
     assert sorted(tmp_path.rglob("*")) == before  # nothing written, not even a directory
 
 
-def test_verify_that_finds_no_equilibrium_stops_with_one_line(tmp_path):
+def test_verify_that_finds_no_equilibrium_stops_with_one_line(run, tmp_path):
     """A verification sweep whose solver gives up: exit 4 (diverged), one line on stderr, no table, no traceback."""
     scene = PAPER_CONFIG.parent / "scenes" / "hertz.yaml"
     out = tmp_path / "hertz.csv"

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from capslide import contact
+from capslide.laws import contact
 from capslide.params import cgcm_constants
 
 # Several parameter sets, not only the paper's: (T_max, W_adh, g_reg / g_eq)

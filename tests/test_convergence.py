@@ -8,7 +8,8 @@ import pytest
 import xarray as xr
 import yaml
 
-from capslide.convergence import (
+from capslide.config import ConfigError
+from capslide.studies.convergence import (
     QOIS,
     RunResult,
     error_rows,
@@ -17,8 +18,9 @@ from capslide.convergence import (
     quantities,
     reference,
     study_runs,
-    validate_spec,
 )
+from capslide.studies.expansion import runs as expand
+
 from conftest import snakemake
 
 
@@ -58,9 +60,10 @@ def test_runs_share_files_and_ids_name_the_changes():
     assert len(ids) == 7  # gauss = 4 at size 8 is the mesh run at size 8
     for bad, message in (({**SPEC, "reference": {"sweep": "mesh", "value": 1}}, "reference.value = 1"),
                          ({**SPEC, "sweeps": {"x": {"key": "friction.eps_t", "values": [1]}}}, "must have a value in 'base'"),
-                         ({**SPEC, "cases": []}, "non-empty mapping 'cases'")):
-        with pytest.raises(ValueError, match=message):
-            validate_spec(bad)
+                         ({**SPEC, "cases": []}, "'cases' must be a section"),
+                         ({**SPEC, "sweeps": {"m": {"key": "mesh.size"}}}, "missing key 'sweeps.m.values'")):
+        with pytest.raises(ConfigError, match=message):
+            expand(bad, "convergence")
 
 
 def test_error_rows_against_the_reference():
@@ -137,7 +140,7 @@ def test_small_study_table_matches_the_raw_case_files(workdir):
 
 
 def test_cheapest_run_within_a_threshold_over_all_cases():
-    from capslide.convergence import cheapest_within
+    from capslide.studies.convergence import cheapest_within
 
     def row(case, run, err, t, status="completed"):
         return {"case": case, "run": run, "error": err, "wall_time_s": t, "status": status}

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from capslide.element import QUADS, gauss_legendre, gauss_quad, line_shape
+from capslide.fem.element import QUADS, gauss_legendre, gauss_quad, line_shape
 
 
 @pytest.mark.parametrize("name", ["Q1", "Q2"])

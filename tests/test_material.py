@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from capslide import material
+from capslide.laws import material
 from capslide.params import lame_plane_strain
 
 LAM, MU = lame_plane_strain(1.0, 0.4)

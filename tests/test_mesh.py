@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from capslide.config import apply_overrides, validate
-from capslide.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh, cap_mesh_spec, circular_segment_area, rectangle_mesh
+from capslide.fem.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh, circular_segment_area, rectangle_mesh
+from capslide.model.build import cap_mesh_spec
 from capslide.params import Parameters
 
 R, H = 47.1, 10.0

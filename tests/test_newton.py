@@ -2,26 +2,40 @@
 
 import numpy as np
 
-from capslide.newton import NewtonOptions, newton
+from capslide.solvers.newton import NewtonOptions, newton
 
 
-def _problem(f, J):
+def _problem(f, J, visited=None):
     def linearize(x):
+        if visited is not None:
+            visited.append(float(x[0]))
         jac = J(x)
         return f(x), lambda r: np.linalg.solve(jac, r)
 
     return f, linearize
 
 
+def observed_orders(norms, floor=1e-13):
+    """Convergence orders log(r_k+1 / r_k) / log(r_k / r_k-1) of the residual norms above round-off."""
+    r = [v for v in norms if v > floor]
+    return [np.log(r[k + 1] / r[k]) / np.log(r[k] / r[k - 1]) for k in range(1, len(r) - 1)]
+
+
+def _cubic_system(jacobian_scale=1.0):
+    return _problem(lambda x: np.array([x[0] ** 3 + x[1] - 1.0, x[1] ** 3 - x[0] + 1.0]),
+                    lambda x: jacobian_scale * np.array([[3 * x[0] ** 2, 1.0], [-1.0, 3 * x[1] ** 2]]))
+
+
 def test_quadratic_convergence():
-    f, lin = _problem(lambda x: np.array([x[0] ** 3 + x[1] - 1.0, x[1] ** 3 - x[0] + 1.0]),
-                      lambda x: np.array([[3 * x[0] ** 2, 1.0], [-1.0, 3 * x[1] ** 2]]))
-    res = newton(f, lin, np.array([2.0, 1.0]), NewtonOptions(rtol=1e-14, atol=1e-14, dx_tol=1e-12))
+    """With the exact Jacobian the last residual reductions have order about 2 (measured 2.35 and 2.74); a Jacobian
+    off by 30 % converges linearly (orders about 1), which the same check refuses."""
+    opts = NewtonOptions(rtol=1e-14, atol=1e-14, dx_tol=1e-12, max_iterations=60)
+    res = newton(*_cubic_system(), np.array([2.0, 1.0]), opts)
     assert res.converged, res.reason
     np.testing.assert_allclose(res.x, [1.0, 0.0], atol=1e-12)
-    r = np.array(res.residual_norms)
-    tail = r[r > 1e-13][-3:]
-    assert tail[-1] <= 10 * tail[-2] ** 2 / tail[-3] ** 0 or tail[-1] < 1e-10  # superlinear at the end
+    assert min(observed_orders(res.residual_norms)[-2:]) > 1.8
+    chord = newton(*_cubic_system(1.3), np.array([2.0, 1.0]), opts)
+    assert chord.converged and max(observed_orders(chord.residual_norms)[-3:]) < 1.3
 
 
 def test_line_search_globalizes_arctan():
@@ -44,7 +58,12 @@ def test_failure_is_returned():
 
 
 def test_admissibility_is_enforced():
-    # root at x = -1 is forbidden (x > 0 required); the positive root x = 1 is found instead
-    f, lin = _problem(lambda x: x**2 - 1.0, lambda x: np.array([[2.0 * x[0]]]))
-    res = newton(f, lin, np.array([0.3]), admissible=lambda x: x[0] > 0)
-    assert res.converged and res.x[0] == 1.0 or abs(res.x[0] - 1.0) < 1e-9
+    """Every iterate Newton accepts is admissible (x < 1.05 here): from x0 = 0.7 the full step on x^2 - 1 = 0 lands at
+    1.064 and decreases the residual, so only the admissibility check shortens it; without it that iterate is taken."""
+    visited, free = [], []
+    res = newton(*_problem(lambda x: x**2 - 1.0, lambda x: np.array([[2.0 * x[0]]]), visited), np.array([0.7]),
+                 admissible=lambda x: x[0] < 1.05)
+    assert res.converged and abs(res.x[0] - 1.0) < 1e-9, res.reason
+    assert len(visited) >= 3 and max(visited) < 1.05
+    unconstrained = newton(*_problem(lambda x: x**2 - 1.0, lambda x: np.array([[2.0 * x[0]]]), free), np.array([0.7]))
+    assert unconstrained.converged and max(free) > 1.05

@@ -7,8 +7,9 @@ import pytest
 from scipy.integrate import quad
 
 from capslide.config import ConfigError, apply_overrides, load_config, validate
-from capslide.contact import normal_traction_unregularized
+from capslide.laws.contact import normal_traction_unregularized
 from capslide.params import Parameters, cgcm_constants
+
 from conftest import PAPER_CONFIG as PAPER
 
 

@@ -6,8 +6,10 @@ import sys
 import numpy as np
 import xarray as xr
 
-from capslide.mesh import CapMeshSpec, cap_mesh
-from capslide.results import mesh_dataset, read_mesh, write_netcdf
+from capslide.fem.mesh import CapMeshSpec, cap_mesh
+from capslide.io.reading import read_mesh
+from capslide.io.results import mesh_dataset, write_netcdf
+
 from conftest import PAPER_CONFIG
 
 
@@ -48,10 +50,10 @@ def test_mesh_cli_and_figure(tmp_path):
 def test_case_files_and_collect(tmp_path, paper_config):
     import warnings
 
-    from capslide.case import run_case
     from capslide.config import apply_overrides, validate
+    from capslide.driver.case import run_case
+    from capslide.io.results import case_dataset, collect
     from capslide.params import Parameters
-    from capslide.results import case_dataset, collect
 
     paths = []
     for sets in (["friction.model=DI", "loading.ubar_max=0.3"], ["friction.model=EA", "friction.s_cut=0", "loading.ubar_max=0.6",

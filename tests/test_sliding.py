@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from capslide import contact
-from capslide.case import run_case
 from capslide.config import apply_overrides, validate
-from capslide.interface import SLIP, STICK
-from capslide.mesh import rectangle_mesh
+from capslide.driver.case import run_case
+from capslide.fem.mesh import rectangle_mesh
+from capslide.laws import contact
 from capslide.params import Parameters
+from capslide.states import Phase, SlipState, Status
 
 COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]"]
 
@@ -19,13 +19,13 @@ def params_with(paper_config, *overrides):
 
 def surface_integral(p, mesh, x, fn):
     """Integral over the reference surface of fn(gap, J_s, Tn) at the state x, with the case's quadrature."""
-    from capslide.interface import SurfaceContact
+    from capslide.fem.interface import SurfaceContact
 
     c = SurfaceContact(mesh, p.adhesion, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
     u, h = x[:-1], x[-1]
     xs, t = c.quad.current(u)
     g = h - xs[..., 1]
-    J = np.linalg.norm(t, axis=-1) / c._ref_len
+    J = np.linalg.norm(t, axis=-1) / c.ref_len
     Tn, _ = contact.normal_traction(g, p.adhesion.T0, p.adhesion.r0, p.adhesion.g_reg)
     Tn = np.where(g < p.contact.far_gap, Tn, 0.0)
     return float(np.sum(fn(g, J, Tn) * c.quad.weight))
@@ -39,9 +39,9 @@ def di_case(paper_config):
 
 def test_di_full_sliding_force(di_case):
     p, res = di_case
-    assert res.status == "completed", res.reason
+    assert res.status == Status.COMPLETED, res.reason
     last = res.records[-1]
-    assert np.all(last.slip_state != STICK)
+    assert np.all(last.slip_state != SlipState.STICK)
     f = p.friction
     Ft_theory = surface_integral(p, res.mesh, res.final_x,
                                  lambda g, J, Tn: J * contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)[0])
@@ -52,7 +52,7 @@ def test_di_full_sliding_force(di_case):
     assert abs(ratio - 1.0) < 0.02
     # after the onset, force and area stay constant
     onset = res.scalars["onset_ubar"]
-    after = [r for r in res.records if r.phase == "slide" and r.ubar >= onset]
+    after = [r for r in res.records if r.phase == Phase.SLIDE and r.ubar >= onset]
     assert len(after) >= 2
     assert np.ptp([r.Ft for r in after]) <= 0.01 * abs(last.Ft)
     assert np.ptp([r.area for r in after]) <= 0.01 * last.area
@@ -61,7 +61,7 @@ def test_di_full_sliding_force(di_case):
 def test_ea_coulomb_full_sliding_force(paper_config):
     p = params_with(paper_config, "friction.model=EA", "friction.s_cut=0")
     res = run_case(p)
-    assert res.status == "completed", res.reason
+    assert res.status == Status.COMPLETED, res.reason
     last = res.records[-1]
     assert np.isfinite(res.scalars["onset_ubar"])
     Ft_theory = surface_integral(p, res.mesh, res.final_x, lambda g, J, Tn: p.friction.mu_EA * np.maximum(Tn, 0.0))
@@ -72,8 +72,8 @@ def test_mirror_symmetry(paper_config, di_case):
     p, res = di_case
     pm = params_with(paper_config, "friction.model=DI", "loading.ubar_max=-2.6")
     resm = run_case(pm)
-    slide = [r for r in res.records if r.phase == "slide"]
-    slidem = [r for r in resm.records if r.phase == "slide"]
+    slide = [r for r in res.records if r.phase == Phase.SLIDE]
+    slidem = [r for r in resm.records if r.phase == Phase.SLIDE]
     assert len(slide) == len(slidem)
     np.testing.assert_allclose([r.ubar for r in slidem], [-r.ubar for r in slide], atol=1e-12)
     scale = max(abs(r.Ft) for r in slide)
@@ -88,19 +88,19 @@ def test_flat_block_uniform_sliding(paper_config, model_name, s_cut):
                     "loading.ubar_max=2.0")
     mesh = rectangle_mesh(20, 4, 10.0, 2.0, "Q1")
     res = run_case(p, mesh=mesh)
-    assert res.status == "completed", res.reason
+    assert res.status == Status.COMPLETED, res.reason
     last = res.records[-1]
     # the middle half of the face, away from the free edges of the block: a nearly uniform state
     inside = (np.abs(last.x_surface) < 2.5) & (last.gap < p.adhesion.g_max)
-    assert inside.sum() > 30 and np.all(last.slip_state[inside] == SLIP)
+    assert inside.sum() > 30 and np.all(last.slip_state[inside] == SlipState.SLIP)
     g = last.gap[inside]
     f, a = p.friction, p.adhesion
     if model_name == "DI":
-        from capslide.interface import SurfaceContact
+        from capslide.fem.interface import SurfaceContact
 
         c = SurfaceContact(mesh, a, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
         _, t = c.quad.current(res.final_x[:-1])
-        J = (np.linalg.norm(t, axis=-1) / c._ref_len).ravel()[inside]
+        J = (np.linalg.norm(t, axis=-1) / c.ref_len).ravel()[inside]
         expected = J * contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)[0]
     else:
         expected = contact.ea_threshold(g, f.mu_EA, f.g_cut_EA, a.T0, a.r0, a.g_reg)[0]
@@ -108,7 +108,8 @@ def test_flat_block_uniform_sliding(paper_config, model_name, s_cut):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("overrides", [["friction.model=DI"], ["friction.model=EA", "friction.s_cut=0", "loading.preload=-0.288"]])
+@pytest.mark.parametrize("overrides", [["friction.model=DI"],
+                                       ["friction.model=EA", "friction.s_cut=0", "loading.preload=-0.288"]])
 def test_step_and_penalty_sensitivity_below_one_percent(paper_config, overrides):
     base = params_with(paper_config, *overrides)
     L, f = base.loading, base.friction
@@ -141,7 +142,8 @@ def test_pull_off_ends_detached_with_a_file(tmp_path):
     from conftest import PAPER_CONFIG
 
     out = tmp_path / "detached.nc"
-    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "preset=fast", "--set", "mesh.size=32",
+    res = subprocess.run([sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "preset=fast",
+                          "--set", "mesh.size=32",
                           "--set", "loading.preload=1.0", "--set", "output.snapshot_ubar=[]", "-q", "-o", str(out)],
                          capture_output=True, text=True, timeout=600)
     assert res.returncode == 3, res.stderr
@@ -157,7 +159,7 @@ def test_stop_at_onset_ends_on_the_onset_step(paper_config, di_case):
     p_full, full = di_case
     p = params_with(paper_config, "friction.model=DI", "loading.stop_at_onset=true")
     short = run_case(p)
-    assert short.status == "completed" and "onset of full sliding" in short.reason
+    assert short.status == Status.COMPLETED and "onset of full sliding" in short.reason
     assert short.records[-1].ubar == full.scalars["onset_ubar"] < p_full.loading.ubar_max
     for key in ("onset_ubar", "onset_Ft", "onset_area"):
         assert short.scalars[key] == full.scalars[key]

@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 import yaml
 
-from capslide.stability import case_overrides, check, markdown_table, pull_off_force, validate_spec
+from capslide.config import ConfigError
+from capslide.studies.expansion import runs
+from capslide.studies.stability import check, markdown_table, pull_off_force
+
 from conftest import ROOT, snakemake
 
 
@@ -51,18 +54,17 @@ def test_pull_off_and_detachment_checks():
     assert not check("recovered", history([0.1], [0.1], cutbacks=0))[1]
 
 
-def test_spec_of_the_suite_and_its_overrides():
+def test_spec_of_the_suite_and_its_runs():
     spec = yaml.safe_load((ROOT / "config" / "stability.yaml").read_text())
-    validate_spec(spec)
-    assert len(spec["cases"]) >= 11
-    sets = case_overrides(spec, "tensile_90", pull_off=0.4)
-    assert "loading.preload=0.36" in sets and "mesh.size=16" in sets
-    assert "loading.slide_back=true" in case_overrides(spec, "slide_back")
-    with pytest.raises(ValueError, match="pull-off"):
-        case_overrides(spec, "tensile_90")
-    bad = {"cases": {"x": {"expect": "exploded"}}}
-    with pytest.raises(ValueError, match="cases.x.expect = 'exploded'"):
-        validate_spec(bad)
+    sets = runs(spec, "stability")
+    assert len(sets) >= 11
+    # the preload of a pull_off_fraction case comes from the overlay of `capslide pull-off`, not from the overrides
+    assert sets["tensile_90"]["mesh.size"] == 16 and "loading.preload" not in sets["tensile_90"]
+    assert sets["slide_back"]["loading.slide_back"] is True
+    with pytest.raises(ConfigError, match="cases.x.expect = 'exploded' is not allowed"):
+        runs({"cases": {"x": {"expect": "exploded"}}}, "stability")
+    with pytest.raises(ConfigError, match="cases.x.pull_off_fraction needs a case named 'pull_off'"):
+        runs({"cases": {"x": {"expect": "completed", "pull_off_fraction": 0.5}}}, "stability")
 
 
 def test_markdown_table_marks_failures():

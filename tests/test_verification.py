@@ -4,15 +4,18 @@ import csv
 import math
 
 import pytest
-from conftest import ROOT
 
-from capslide import analytic, figures
+from capslide import figures
 from capslide.config import load_config
-from capslide.loading import approach
-from capslide.mesh import cap_mesh, cap_mesh_spec
-from capslide.model import CapModel
+from capslide.laws import analytic
+from capslide.loadpath.cap import load_path
+from capslide.loadpath.continuation import drain
+from capslide.model.build import build_model
 from capslide.params import Parameters
-from capslide.verification import VerificationRow, _edge_controlled_sweep, sweep
+from capslide.states import Phase, Status
+from capslide.studies.verification import VerificationRow, edge_controlled_sweep, read_tables, sweep
+
+from conftest import ROOT
 
 R, E_STAR, W = 200.0, 1.0 / 0.84, 0.013478
 
@@ -57,7 +60,7 @@ def test_verification_figure_from_tables(tmp_path):
         w.writerow(["scene", "quantity", "load_P", "fe", "theory", "rel_error", "extra"])
         w.writerows(rows)
     with figures.journal_style():
-        fig = figures.fig_verification([table])
+        fig = figures.TABLE_FIGURES["verification"](read_tables([table]))
     titles = [ax.get_title() for ax in fig.axes]
     assert "a 1.00%" in titles[0] and "p(x) 2.30%" in titles[0] and "P(a)" not in titles[0]
     assert "a 2.00%" in titles[1] and "P(a) 5.00%" in titles[1]
@@ -83,9 +86,9 @@ def test_stiff_law_apex_control_alone_stops_at_the_snap_in():
     """The case for edge control: with the apex gap as the only load parameter the approach of the stiff scene
     stops where the contact snaps in, within 2 % of g_eq (the apex gap turns there; g_max = 1.2 g_eq). About 50 s."""
     p = _stiff_scene([0.0], ["loading.approach_edge_step=0", "loading.approach_end_gap_over_g_eq=1.0"])
-    res = approach(CapModel(cap_mesh(cap_mesh_spec(p)), p), [])
-    assert res.status == "diverged" and res.reason.startswith("approach: step below minimum")
-    stopped_at = float(res.reason.split(" at ")[1].split()[0])
+    end = drain(load_path(build_model(p), stop_before="preload"))
+    assert end.status == Status.DIVERGED and end.reason.startswith("approach: step below minimum")
+    stopped_at = float(end.reason.split(" at ")[1].split()[0])
     assert p.adhesion.g_eq < stopped_at < 1.02 * p.adhesion.g_eq
 
 
@@ -94,14 +97,14 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     every step, and the issue's JKR criteria (zero-load half-width within 3 %, pull-off within 5 %)."""
     loads = [0.0, -0.2]
     p = _stiff_scene(loads)
-    model = CapModel(cap_mesh(cap_mesh_spec(p)), p)
+    model = build_model(p)
     records = []
-    states, F_max, _ = _edge_controlled_sweep(model, loads, records, None)
+    states, F_max, _ = edge_controlled_sweep(model, loads, records, None)
     E_star = analytic.effective_modulus(p.material.E, p.material.nu)
     w = p.adhesion.W_adh
     for P in loads:
-        assert states[P].phase == "preload" and states[P].Fn == pytest.approx(-P, abs=1e-9)
-    edge_path = [r for r in records if r.phase == "approach" and r.area > 0]
+        assert states[P].phase == Phase.PRELOAD and states[P].Fn == pytest.approx(-P, abs=1e-9)
+    edge_path = [r for r in records if r.phase == Phase.APPROACH and r.area > 0]
     i_peak = max(range(len(edge_path)), key=lambda i: edge_path[i].Fn)
     assert edge_path[i_peak].Fn == F_max and 0 < i_peak < len(edge_path) - 3  # through the pull-off point
     assert states[-0.2].area > edge_path[i_peak].area  # the tensile load on the stable branch

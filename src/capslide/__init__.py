@@ -1,8 +1,10 @@
-"""capslide: finite element simulations of adhesive friction of a soft cap on a rigid substrate."""
+"""capslide: finite element simulations of adhesive friction of a soft cap on a rigid substrate.
 
-from importlib.metadata import PackageNotFoundError, version
+Layers, lowest first (a module imports only from its own layer or lower ones; tests/test_layers.py checks it):
+``config``/``params``/``states`` -> ``laws`` -> ``fem`` -> ``solvers`` -> ``model`` -> ``loadpath`` -> ``io`` ->
+``driver`` -> ``studies`` -> ``figures`` -> ``cli``.
+"""
 
-try:
-    __version__ = version("capslide")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0+unknown"
+from .version import __version__
+
+__all__ = ["__version__"]

@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import copy
 import functools
+import json
 import math
 import re
+from collections.abc import Iterable, Mapping
 from importlib import resources
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import jsonschema
 import yaml
@@ -28,7 +30,10 @@ __all__ = [
     "load_yaml",
     "merge",
     "apply_overrides",
+    "apply_settings",
+    "override_args",
     "apply_preset",
+    "check_schema",
     "validate",
     "load_config",
     "flatten",
@@ -131,6 +136,33 @@ def apply_overrides(config: Mapping, overrides: Iterable[str]) -> dict:
     return out
 
 
+def apply_settings(config: Mapping, settings: Mapping[str, Any]) -> dict:
+    """Set dotted keys to values: ``{"friction.s_cut": 0.5}`` (the typed form of :func:`apply_overrides`)."""
+    out = copy.deepcopy(dict(config))
+    for key, value in settings.items():
+        path = str(key).split(".")
+        if any(not part for part in path):
+            raise ConfigError(f"setting '{key}' must be a dotted key like section.key")
+        _section(out, path, f"setting '{key}'")[path[-1]] = copy.deepcopy(value)
+    return out
+
+
+def _override_text(value: Any) -> str:
+    """YAML text that reads back as ``value``: plain for strings that need no quotes, JSON otherwise."""
+    if isinstance(value, str):
+        try:
+            if _yaml_load(value) == value:
+                return value
+        except yaml.YAMLError:
+            pass
+    return json.dumps(value)
+
+
+def override_args(settings: Mapping[str, Any]) -> list[str]:
+    """``key=value`` override strings (for ``--set``) whose values read back as the same YAML values."""
+    return [f"{key}={_override_text(value)}" for key, value in settings.items()]
+
+
 def _dotted(path: Iterable) -> str:
     return ".".join(str(p) for p in path) or "<top level>"
 
@@ -193,7 +225,8 @@ def _check_consistency(config: Mapping) -> None:
     if fr["model"] == "DI" and g_cut <= g_reg:
         raise ConfigError(
             f"friction.g_cut_DI_over_g_max = {fr['g_cut_DI_over_g_max']!r} is not allowed with adhesion.g_reg_over_g_eq = "
-            f"{g_reg!r}: the DI cut-off gap must lie above the regularization gap (g_cut_DI_over_g_max > {g_reg / g_reg_limit:.5f})"
+            f"{g_reg!r}: the DI cut-off gap must lie above the regularization gap "
+            f"(g_cut_DI_over_g_max > {g_reg / g_reg_limit:.5f})"
         )
     # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
     R, H = geo["R"], geo["H"]
@@ -206,7 +239,8 @@ def _check_consistency(config: Mapping) -> None:
             f"T_max/E x top-surface length = {bound:.4g})"
         )
     if config["contact"]["repulsion_only"] and preload > 0.0:
-        raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: a tensile preload needs adhesion")
+        raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: "
+                          "a tensile preload needs adhesion")
 
 
 def apply_preset(config: Mapping) -> dict:
@@ -230,29 +264,35 @@ def apply_preset(config: Mapping) -> dict:
     return out
 
 
+def check_schema(instance, spec: Mapping, prefix: str = "") -> None:
+    """Raise ConfigError with a one-line message (``prefix`` first) for the shallowest violation of ``spec``."""
+    errors = list(jsonschema.Draft202012Validator(spec).iter_errors(instance))
+    if errors:
+        # Report the shallowest problem first (a missing section before its keys).
+        first = min(errors, key=lambda e: (len(e.absolute_path), _dotted(e.absolute_path)))
+        raise ConfigError(prefix + _message(first))
+
+
 def validate(config: Mapping) -> dict:
     """Validate against the schema, fill defaults, check cross-key rules.
 
     Returns a new, complete configuration; raises :class:`ConfigError`.
     """
     out = apply_preset(config)
-    validator = jsonschema.Draft202012Validator(schema())
-    errors = list(validator.iter_errors(out))
-    if errors:
-        # Report the shallowest problem first (a missing section before its keys).
-        first = min(errors, key=lambda e: (len(e.absolute_path), _dotted(e.absolute_path)))
-        raise ConfigError(_message(first))
+    check_schema(out, schema())
     _fill_defaults(out, schema())
     _check_consistency(out)
     return out
 
 
-def load_config(paths: Iterable[str | Path], overrides: Iterable[str] = ()) -> dict:
-    """Read, merge (in order), override and validate configuration files."""
+def load_config(paths: Iterable[str | Path], overrides: Iterable[str] = (),
+                settings: Mapping[str, Any] | None = None) -> dict:
+    """Read, merge (in order), change by ``settings`` (dotted key -> value) and ``overrides`` (``key=value``
+    strings, applied last), and validate configuration files."""
     config: dict = {}
     for path in paths:
         config = merge(config, load_yaml(path))
-    return validate(apply_overrides(config, overrides))
+    return validate(apply_overrides(apply_settings(config, settings or {}), overrides))
 
 
 def flatten(config: Mapping, prefix: str = "") -> dict[str, Any]:

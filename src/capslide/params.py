@@ -8,8 +8,9 @@ width W = 1). Everything downstream works in internal units.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any
 
 __all__ = [
     "cgcm_constants",
@@ -24,8 +25,6 @@ __all__ = [
     "Loading",
     "SolverSpec",
     "Parameters",
-    "JKRSphereExperiment",
-    "PDMS_SPHERE",
 ]
 
 
@@ -196,7 +195,7 @@ class Parameters:
     config: Mapping[str, Any] = field(repr=False, compare=False)
 
     @classmethod
-    def from_config(cls, config: Mapping[str, Any]) -> "Parameters":
+    def from_config(cls, config: Mapping[str, Any]) -> Parameters:
         """Build from a *validated* configuration (see :func:`capslide.config.validate`)."""
         mat, adh, fr = config["material"], config["adhesion"], config["friction"]
         geo, msh, load, sol = config["geometry"], config["mesh"], config["loading"], config["solver"]
@@ -291,23 +290,3 @@ def _internal_unit(e_pow: int, l_pow: int) -> str:
         parts.append(f"L0^{l_pow}")
     text = " ".join(parts) or "1"
     return f"{text}/L0" if l_pow == -1 else text
-
-
-@dataclass(frozen=True)
-class JKRSphereExperiment:
-    """The PDMS sphere on glass of the paper's section 3 (SI units).
-
-    Mergel et al. (2019), figure f:exp:setup: R = 9.42 mm, E = 1.6 +- 0.1 MPa,
-    nu = 0.5, dgamma = 27 +- 1 mJ/m^2; measured initial areas up to 0.5 mm^2.
-    """
-
-    R: float = 9.42e-3  # m
-    E: float = 1.6e6  # Pa
-    dE: float = 0.1e6  # Pa
-    nu: float = 0.5
-    w: float = 27e-3  # J/m^2
-    dw: float = 1e-3  # J/m^2
-    area_max_mm2: float = 0.5
-
-
-PDMS_SPHERE = JKRSphereExperiment()

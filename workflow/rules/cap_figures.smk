@@ -4,7 +4,8 @@ CAP_FIGURES = ["cap_PxAndAc", "cap_PxOverAc"]
 CASE_FIGURES = ["cap_Aczoom", "cap_xn"]
 # the case the paper's snapshot figures show: model DI, zero normal load
 SNAPSHOT_CASE = next(
-    (c for c, (m, f) in sorted(CASES.items()) if STUDY["models"][m].get("friction.model") == "DI" and f == 0.0), None
+    (c for c, sets in sorted(CASES.items()) if sets.get("friction.model") == "DI" and sets["loading.preload"] == 0.0),
+    None,
 )
 CAP_FIGURE_FILES = expand("results/figures/{name}.{ext}", name=CAP_FIGURES, ext=["pdf", "png"])
 if SNAPSHOT_CASE is not None:

@@ -1,10 +1,13 @@
-# Helpers shared by every rule: validated config, the CLI call, job settings.
+# Helpers shared by every rule: validated config, study expansion, the CLI call, job settings.
 import re
 import shlex
 import sys
 from pathlib import Path
 
-from capslide.config import ConfigError, validate
+import yaml
+
+from capslide.config import ConfigError, override_args, validate
+from capslide.studies.expansion import check_runs, runs
 from snakemake.exceptions import WorkflowError
 
 try:
@@ -22,3 +25,25 @@ CONFIG_FILES = [DEFAULT_CONFIG] + [
 CONFIG_ARGS = " ".join(shlex.quote(p) for p in CONFIG_FILES)
 # One BLAS/OpenMP thread per declared rule thread: parallel jobs do not oversubscribe.
 THREADS_ENV = "export OMP_NUM_THREADS={threads} OPENBLAS_NUM_THREADS={threads} MKL_NUM_THREADS={threads} MPLBACKEND=Agg;"
+
+
+def read_spec(path):
+    """A study spec file (YAML)."""
+    with open(path) as fh:
+        return yaml.safe_load(fh)
+
+
+def expand_study(spec, kind, what, skip=()):
+    """Run id -> config overrides of a study spec (capslide.studies.expansion.runs), each run's configuration
+    validated now: a bad spec or run stops the workflow before any job, with one line naming it."""
+    try:
+        out = runs(spec, kind)
+        check_runs(out, CONFIG_FILES, skip)
+    except ConfigError as err:
+        raise WorkflowError(f"{what}: {err}") from None
+    return out
+
+
+def set_args(overrides):
+    """The --set options of a run's overrides (dotted key -> value)."""
+    return " ".join(f"--set {shlex.quote(s)}" for s in override_args(overrides))

@@ -1,28 +1,12 @@
 # snakemake --cores 2 convergence: speed against error (config/convergence.yaml; issue 7).
 # Not part of the default reproduction; outputs under results/studies/convergence/.
-import yaml
-
-from capslide.convergence import run_overrides, study_runs, validate_spec
-
 CONVERGENCE_SPEC = "config/convergence.yaml"
-CONVERGENCE = yaml.safe_load(open(CONVERGENCE_SPEC))
-try:
-    validate_spec(CONVERGENCE)
-except ValueError as err:
-    raise WorkflowError(f"{CONVERGENCE_SPEC}: {err}") from None
+CONVERGENCE = read_spec(CONVERGENCE_SPEC)
+CONVERGENCE_RUNS = expand_study(CONVERGENCE, "convergence", CONVERGENCE_SPEC)  # "{case}/{run}" -> overrides
 CONVERGENCE_DIR = "results/studies/convergence"
-CONVERGENCE_SETS = {
-    (r.case, r.run_id): run_overrides(CONVERGENCE, r.case, r.sweep, r.value)
-    for r in study_runs(CONVERGENCE)
-}
-CONVERGENCE_FILES = sorted(f"{CONVERGENCE_DIR}/cases/{c}/{i}.nc" for c, i in CONVERGENCE_SETS)
+CONVERGENCE_FILES = sorted(f"{CONVERGENCE_DIR}/cases/{run}.nc" for run in CONVERGENCE_RUNS)
 # the long runs (the finest meshes) start first: they are the critical path on two cores
-CONVERGENCE_LONG = [i for _, i in CONVERGENCE_SETS if i in ("size-0.5", "size-1")]
-
-
-def convergence_overrides(wildcards):
-    sets = CONVERGENCE_SETS[(wildcards.case, wildcards.run)]
-    return " ".join(f"--set {shlex.quote(f'{k}={v}')}" for k, v in sets.items())
+CONVERGENCE_LONG = [run for run in CONVERGENCE_RUNS if run.split("/")[-1] in ("size-0.5", "size-1")]
 
 
 rule convergence:
@@ -38,17 +22,16 @@ rule convergence_case:
     input:
         CONFIG_FILES,  # the run's own overrides are params (Snakemake reruns a run when they change)
     output:
-        f"{CONVERGENCE_DIR}/cases/{{case}}/{{run}}.nc",
+        f"{CONVERGENCE_DIR}/cases/{{run}}.nc",
     wildcard_constraints:
-        case="|".join(re.escape(c) for c in CONVERGENCE["cases"]),
-        run="|".join(re.escape(i) for i in sorted({i for _, i in CONVERGENCE_SETS})),
+        run="|".join(re.escape(r) for r in sorted(CONVERGENCE_RUNS)),
     params:
-        overrides=convergence_overrides,
+        overrides=lambda wildcards: set_args(CONVERGENCE_RUNS[wildcards.run]),
     priority: lambda wildcards: 10 if wildcards.run in CONVERGENCE_LONG else 0
     log:
-        f"logs/convergence/{{case}}/{{run}}.log",
+        f"logs/convergence/{{run}}.log",
     benchmark:
-        f"results/benchmarks/convergence/{{case}}/{{run}}.tsv"
+        f"results/benchmarks/convergence/{{run}}.tsv"
     threads: 1
     resources:
         mem_mb=6000,

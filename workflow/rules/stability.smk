@@ -1,11 +1,16 @@
 # snakemake --cores 2 stability: the hard cases of config/stability.yaml and their table
 # (not part of the default reproduction; outputs under results/studies/stability/).
-import yaml
-
 STABILITY_SPEC = "config/stability.yaml"
-STABILITY = yaml.safe_load(open(STABILITY_SPEC))
+STABILITY = read_spec(STABILITY_SPEC)
+STABILITY_REJECTED = [
+    n for n, c in (STABILITY or {}).get("cases", {}).items() if isinstance(c, dict) and c.get("expect") == "rejected"
+]
+# case name -> overrides; the cases expected to be rejected are not validated (the table checks their refusal)
+STABILITY_RUNS = expand_study(STABILITY, "stability", STABILITY_SPEC, skip=STABILITY_REJECTED)
 STABILITY_DIR = "results/studies/stability"
-STABILITY_RUNS = [n for n, c in STABILITY["cases"].items() if c["expect"] != "rejected"]
+STABILITY_CASES = [n for n in STABILITY_RUNS if n not in STABILITY_REJECTED]
+# cases whose preload is a fraction of the pull-off force of the case 'pull_off'
+STABILITY_FRACTIONS = {n: c["pull_off_fraction"] for n, c in STABILITY["cases"].items() if "pull_off_fraction" in c}
 
 
 rule stability:
@@ -14,19 +19,38 @@ rule stability:
         f"{STABILITY_DIR}/table.md",
 
 
+rule stability_preload:
+    input:
+        f"{STABILITY_DIR}/pull_off.nc",
+    output:
+        f"{STABILITY_DIR}/{{name}}.preload.yaml",
+    wildcard_constraints:
+        name="|".join(re.escape(n) for n in STABILITY_FRACTIONS) if STABILITY_FRACTIONS else "none",
+    params:
+        fraction=lambda wildcards: STABILITY_FRACTIONS[wildcards.name],
+    log:
+        f"logs/stability/{{name}}.preload.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    shell:
+        THREADS_ENV + " " + CAPSLIDE + " pull-off {input} --fraction {params.fraction} -o {output} > {log} 2>&1"
+
+
 rule stability_case:
     input:
         CONFIG_FILES,
         STABILITY_SPEC,
-        pull_off=lambda wc: (
-            [f"{STABILITY_DIR}/pull_off.nc"] if "pull_off_fraction" in STABILITY["cases"][wc.name] else []
+        overlay=lambda wildcards: (
+            [f"{STABILITY_DIR}/{wildcards.name}.preload.yaml"] if wildcards.name in STABILITY_FRACTIONS else []
         ),
     output:
         f"{STABILITY_DIR}/{{name}}.nc",
     wildcard_constraints:
-        name="|".join(re.escape(n) for n in STABILITY_RUNS),
+        name="|".join(re.escape(n) for n in STABILITY_CASES),
     params:
-        pull_off=lambda wc, input: f"--pull-off {input.pull_off[0]}" if input.pull_off else "",
+        overrides=lambda wildcards: set_args(STABILITY_RUNS[wildcards.name]),
     log:
         f"logs/stability/{{name}}.log",
     benchmark:
@@ -37,15 +61,14 @@ rule stability_case:
         runtime=30,
     # exit 3 (detached) and 4 (diverged) still write the case file; the table judges the status
     shell:
-        THREADS_ENV + " sets=$(" + CAPSLIDE + " stability-overrides " + STABILITY_SPEC
-        + " {wildcards.name} {params.pull_off}); rc=0; " + CAPSLIDE + " run " + CONFIG_ARGS
-        + " $sets -o {output} > {log} 2>&1 || rc=$?; test $rc -eq 0 -o $rc -eq 3 -o $rc -eq 4"
+        THREADS_ENV + " rc=0; " + CAPSLIDE + " run " + CONFIG_ARGS
+        + " {input.overlay} {params.overrides} -o {output} > {log} 2>&1 || rc=$?; test $rc -eq 0 -o $rc -eq 3 -o $rc -eq 4"
 
 
 rule stability_table:
     input:
         STABILITY_SPEC,
-        expand(f"{STABILITY_DIR}/{{name}}.nc", name=STABILITY_RUNS),
+        expand(f"{STABILITY_DIR}/{{name}}.nc", name=STABILITY_CASES),
     output:
         csv=f"{STABILITY_DIR}/table.csv",
         md=report(f"{STABILITY_DIR}/table.md", caption="../report/stability.rst", category="Stability"),

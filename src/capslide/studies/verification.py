@@ -31,14 +31,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import analytic
-from .loading import (StepRecord, approach, approach_apex, continuation, measure, newton_options, solve_constrained,
-                      spread_contact)
-from .mesh import cap_mesh, cap_mesh_spec
-from .model import CapModel, FixedEdgeGap, FixedForce
-from .params import Parameters
+from ..laws import analytic
+from ..loadpath.cap import load_path, spread_constraint, spread_control
+from ..loadpath.continuation import Loop, StepControl, continuation, drain, newton_options, solve_constrained
+from ..loadpath.measures import StepRecord, measure
+from ..model.build import build_model, cap_mesh_spec
+from ..model.constraints import FixedEdgeGap, FixedForce
+from ..model.system import CapModel, History
+from ..params import Parameters
+from ..states import Phase, Status
 
-__all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error"]
+__all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error", "force_controlled_sweep",
+           "edge_controlled_sweep"]
 
 
 class VerificationFailed(RuntimeError):
@@ -72,7 +76,7 @@ def pressure_error(rec: StepRecord, P: float, R: float, E_star: float) -> float:
 
 def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
     """Run the scene's load sweep and compare with the closed forms."""
-    model = CapModel(cap_mesh(cap_mesh_spec(params)), params)
+    model = build_model(params)
     a, L, g = params.adhesion, params.loading, params.geometry
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     adhesive = not params.contact.repulsion_only
@@ -80,9 +84,9 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
     loads = sorted(params.config["verification"]["loads"], reverse=True)
     records: list[StepRecord] = []
     if adhesive and L.approach_edge_step > 0.0:
-        states, F_max, how = _edge_controlled_sweep(model, loads, records, progress)
+        states, F_max, how = edge_controlled_sweep(model, loads, records, progress)
     else:
-        states, F_max, how = _force_controlled_sweep(model, loads, records, progress, adhesive)
+        states, F_max, how = force_controlled_sweep(model, loads, records, progress, adhesive)
     P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w) if adhesive else math.nan
     closed_form = {"R": g.R, "E_star": E_star, "w": w}  # P(a) = pi E* a^2/(4R) - sqrt(2 pi E* w a); w = 0: Hertz
     rows: list[VerificationRow] = []
@@ -105,57 +109,85 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
     return rows
 
 
-def _force_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress,
-                            adhesive: bool) -> tuple[dict[float, StepRecord], float, str]:
+class _Recording:
+    """Keeps the records of the steps of a sweep and shows each to ``progress`` (a callable of a record)."""
+
+    def __init__(self, records: list[StepRecord], progress):
+        self.records, self.progress = records, progress
+
+    def __call__(self, step) -> None:
+        self.records.append(step.record)
+        if self.progress:
+            self.progress(step.record)
+
+
+def _force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, object]:
+    """Force control from the state x at normal force Fn (its last record's) to the target ``Fn``."""
+    L = model.params.loading
+    control = StepControl(L.force_step, L.min_force_step, L.force_step, max_cutbacks=L.max_cutbacks)
+    start = observe.records[-1].Fn
+    loop = Loop.start(x, start, Fn, control)
+    end = drain(continuation(model, loop, History(), FixedForce, Fn, control, Phase.PRELOAD, "preload", ends=ends),
+                observe)
+    return loop, end
+
+
+def force_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress,
+                           adhesive: bool) -> tuple[dict[float, StepRecord], float, str]:
     """Approach, then force control through the loads (largest compressive first); with adhesion, retract
     past the closed-form pull-off: the largest tensile force with an equilibrium is the FE pull-off."""
-    L, g = model.params.loading, model.params.geometry
-    res = approach(model, records, progress)
-    if res.status != "completed":
-        raise VerificationFailed(res.reason)
-    x, states = res.x, {}
+    g = model.params.geometry
+    observe = _Recording(records, progress)
+    end = drain(load_path(model, stop_before="preload"), observe)
+    if end.status != Status.COMPLETED:
+        raise VerificationFailed(end.reason)
+    x, states = end.x, {}
     for P in loads:
-        res = continuation(model, x, FixedForce, records[-1].Fn, -P, L.force_step, "preload", records,
-                           min_step=L.min_force_step, max_step=L.force_step, progress=progress)
-        if res.status != "completed":
-            raise VerificationFailed(f"at P = {P}: {res.reason}")
-        x, states[P] = res.x, records[-1]
+        loop, leg = _force_leg(model, x, -P, observe)
+        if leg.status != Status.COMPLETED:
+            raise VerificationFailed(f"at P = {P}: {leg.reason}")
+        x, states[P] = loop.x, records[-1]
     if not adhesive:
         return states, math.nan, ""
     E_star = analytic.effective_modulus(model.params.material.E, model.params.material.nu)
     P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, model.params.adhesion.W_adh)
-    res = continuation(model, x, FixedForce, records[-1].Fn, -1.5 * P_c, L.force_step, "preload", records,
-                       min_step=L.min_force_step, max_step=L.force_step, progress=progress,
-                       stop=lambda r: "detached" if r.area < 1e-3 * g.R else None)
-    return states, max(r.Fn for r in records), res.status
+    _, leg = _force_leg(model, x, -1.5 * P_c, observe,
+                        ends=lambda r: Status.DETACHED if r.area < 1e-3 * g.R else None)
+    return states, max(r.Fn for r in records), leg.status.label
 
 
-def _edge_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord],
-                           progress) -> tuple[dict[float, StepRecord], float, str]:
-    """Apex approach, then one edge-controlled path (:func:`capslide.loading.spread_contact`) from first contact
-    through the pull-off point to the largest compressive load; it stops on the stable branch (past the largest
-    tensile force) just beyond each load in turn, where :func:`_equilibrium_at_load` finds the equilibrium at
-    exactly that load between the two bracketing steps. The largest tensile force along the path is the FE
+def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord],
+                          progress) -> tuple[dict[float, StepRecord], float, str]:
+    """Apex approach, then one edge-controlled path (the ``spread`` leg of :mod:`capslide.loadpath.cap`) from first
+    contact through the pull-off point to the largest compressive load; it stops on the stable branch (past the
+    largest tensile force) just beyond each load in turn, where :func:`_equilibrium_at_load` finds the equilibrium
+    at exactly that load between the two bracketing steps. The largest tensile force along the path is the FE
     pull-off (under force control there is no equilibrium beyond it)."""
-    res = approach_apex(model, records, progress)
-    if res.status != "completed":
-        raise VerificationFailed(res.reason)
+    observe = _Recording(records, progress)
+    end = drain(load_path(model, stop_before="spread"), observe)
+    if end.status != Status.COMPLETED:
+        raise VerificationFailed(end.reason)
     first = len(records)
+    constraint_of, X_end = spread_constraint(model)
+    control = spread_control(model)
 
     def path_forces() -> list[float]:
-        return [r.Fn for r in records[first:] if r.phase == "approach"]
+        return [r.Fn for r in records[first:] if r.phase == Phase.APPROACH]
 
-    x, X, states = res.x, 0.0, {}
+    x, X, states = end.x, 0.0, {}
     for P in sorted(loads):  # most tensile first
-        res = spread_contact(model, x, X, records, lambda rec: _past_peak(path_forces()) and -rec.Fn >= P, progress)
-        if res.status != "completed" or not res.reason:
-            raise VerificationFailed(f"at P = {P}: {res.reason or 'the contact edge reached the end of the top surface'}")
+        until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
+        loop = Loop.start(x, X, X_end, control)
+        leg = drain(continuation(model, loop, History(), constraint_of, X_end, control, Phase.APPROACH, "approach",
+                                 ends=until), observe)
+        if leg.status != Status.COMPLETED or not leg.reason:
+            raise VerificationFailed(f"at P = {P}: {leg.reason or 'the contact edge reached the end of the top surface'}")
         if P < -max(path_forces()):
             raise VerificationFailed(f"P = {P} is more tensile than the FE pull-off load {-max(path_forces()):.6g}")
-        edge = [r for r in records[first:] if r.phase == "approach"]
-        bracket = ((res.value_prev, -edge[-2].Fn, res.x_prev), (res.value, -edge[-1].Fn, res.x))
+        edge = [r for r in records[first:] if r.phase == Phase.APPROACH]
+        bracket = ((loop.value_prev, -edge[-2].Fn, loop.x_prev), (loop.value, -edge[-1].Fn, loop.x))
         states[P] = _equilibrium_at_load(model, bracket, P, records, progress)
-        x, X = res.x, res.value
+        x, X = loop.x, loop.value
     return states, max(path_forces()), "largest tensile force along the edge-controlled path"
 
 
@@ -168,9 +200,9 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
                          max_solves: int = 20) -> StepRecord:
     """The equilibrium at load P (phase preload) between two edge-controlled states ``bracket`` = ((X0, P0, x0),
     (X1, P1, x1)) with P0 < P <= P1: regula falsi (Illinois) on the edge abscissa X, each an edge-controlled solve
-    from the interpolated state (if that fails, from the nearer bracketing state), until the load is within 1e-4 |P_c| of P; then one Newton solve under force
-    control from there. (Force control straight from the bracket needs too many iterations for stiff laws: the
-    edge moves a steep cohesive zone by up to a whole step.)"""
+    from the interpolated state (if that fails, from the nearer bracketing state), until the load is within 1e-4 |P_c|
+    of P; then one Newton solve under force control from there. (Force control straight from the bracket needs too
+    many iterations for stiff laws: the edge moves a steep cohesive zone by up to a whole step.)"""
     t0 = time.perf_counter()
     p = model.params
     E_star = analytic.effective_modulus(p.material.E, p.material.nu)
@@ -193,10 +225,10 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
         t = w0 / (w0 - w1)
         X, guess = X0 + t * (X1 - X0), x0 + t * (x1 - x0)
         c = FixedEdgeGap(X, p.loading.approach_end_gap)
-        res = solve_constrained(model, c, guess, opts)
+        res = solve_constrained(model, c, History(), guess, opts)
         its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:  # once more from the nearer bracketing state
-            res = solve_constrained(model, c, x0 if t < 0.5 else x1, opts)
+            res = solve_constrained(model, c, History(), x0 if t < 0.5 else x1, opts)
             its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:
             raise VerificationFailed(f"at P = {P}: edge-controlled solve at X = {X:.6g} failed ({res.reason})")
@@ -212,12 +244,33 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
     else:
         raise VerificationFailed(f"at P = {P}: load not bracketed to {tol:.2g} in {max_solves} edge-controlled solves")
     c = FixedForce(-P)
-    res = solve_constrained(model, c, x, opts)
+    res = solve_constrained(model, c, History(), x, opts)
     if not res.converged:
         raise VerificationFailed(f"at P = {P}: force-controlled solve failed ({res.reason})")
-    rec = measure(model, res.x, "preload", 0.0, its + res.iterations, lin + res.linear_iterations,
+    rec = measure(model, res.x, History(), Phase.PRELOAD, 0.0, its + res.iterations, lin + res.linear_iterations,
                   time.perf_counter() - t0)
     records.append(rec)
     if progress:
         progress(rec)
     return rec
+
+
+TABLE_COLUMNS = ["scene", "quantity", "load_P", "fe", "theory", "rel_error", "extra"]
+
+
+def table_rows(rows: list[VerificationRow]) -> list[dict]:
+    """The rows of a sweep as the CSV table's rows (strings, 8 significant digits)."""
+    return [{"scene": r.scene, "quantity": r.quantity, "load_P": f"{r.load:.8g}", "fe": f"{r.fe:.8g}",
+             "theory": f"{r.theory:.8g}", "rel_error": f"{r.rel_error:.6g}",
+             "extra": ";".join(f"{k}={v}" for k, v in r.extra.items())} for r in rows]
+
+
+def read_tables(paths) -> list[dict]:
+    """The rows of verification CSV tables (``capslide verify``), in order."""
+    import csv
+
+    rows = []
+    for path in paths:
+        with open(path, newline="") as fh:
+            rows += list(csv.DictReader(fh))
+    return rows

@@ -23,10 +23,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import analytic
 from .element import QUADS
 
-__all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "cap_mesh_spec", "rectangle_mesh", "circular_segment_area", "H0_AT_SIZE_1"]
+__all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "rectangle_mesh", "circular_segment_area", "H0_AT_SIZE_1"]
 
 # Surface element size (L0) at mesh.size = 1, with 4 layers per level: the
 # paper's cap then has 41,720 Q1 cells, its 42,300-element level
@@ -248,7 +247,8 @@ def cap_mesh(spec: CapMeshSpec) -> Mesh:
     phi1 = max(0.5 * phi0, (spec.band_half_width + margin) / R)
     if phi1 > 0.85 * phi0:
         raise ValueError(
-            f"contact band half-width {spec.band_half_width:g} L0 does not fit on the cap top (at most {0.85 * phi0 * R - margin:.3g} L0)"
+            f"contact band half-width {spec.band_half_width:g} L0 does not fit on the cap top "
+            f"(at most {0.85 * phi0 * R - margin:.3g} L0)"
         )
     U = R * phi1
     uv, cells, rows = _logical_q1(spec, U)
@@ -266,22 +266,6 @@ def cap_mesh(spec: CapMeshSpec) -> Mesh:
     base = np.flatnonzero(uv[:, 1] == 0.0)
     info = {"h0": spec.h0, "band_half_width": spec.band_half_width, "U": U, "phi0": phi0, "phi1": phi1}
     return Mesh(spec.element, X, cells, base, seg, info)
-
-
-def cap_mesh_spec(params) -> CapMeshSpec:
-    """Mesh inputs from :class:`capslide.params.Parameters`.
-
-    The default band half-width covers every contact position up to
-    ubar_max: the 2D JKR zero-load half-width of the cap (rigid flat,
-    plane strain) plus ubar_max.
-    """
-    g, m = params.geometry, params.mesh
-    band = m.band_half_width
-    if band is None:
-        E_star = analytic.effective_modulus(params.material.E, params.material.nu)
-        band = analytic.jkr_cylinder_half_width(0.0, g.R, E_star, params.adhesion.W_adh) + abs(params.loading.ubar_max)
-    return CapMeshSpec(R=g.R, H=g.H, h0=H0_AT_SIZE_1 * m.size, band_half_width=band, element=m.element,
-                       max_size_over_H=m.max_size_over_H)
 
 
 def rectangle_mesh(nx: int, ny: int, width: float = 1.0, height: float = 1.0, element: str = "Q1",

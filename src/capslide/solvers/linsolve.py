@@ -70,7 +70,7 @@ class AMGSolver:
         """Force a rebuild at the next solve (for example after a mesh change)."""
         self._ml = None
 
-    def _setup(self, A) -> float:
+    def setup(self, A) -> float:
         t = time.perf_counter()
         Ab = A.tobsr(blocksize=(self.block_size, self.block_size)) if self.block_size > 1 else A
         kwargs = {"B": self.near_null_space} if self.near_null_space is not None else {}
@@ -105,7 +105,7 @@ class AMGSolver:
         B2 = B.reshape(len(B), -1)
         info = SolveInfo()
         if rebuild or self._ml is None:
-            info.setup_time, info.rebuilt = self._setup(A), True
+            info.setup_time, info.rebuilt = self.setup(A), True
         symmetric = self._is_symmetric(A)
         X = np.zeros_like(B2)
         # attempt 0 starts from zero; attempt 1 restarts the Krylov method from the
@@ -113,7 +113,7 @@ class AMGSolver:
         # one); attempt 2 also rebuilds the hierarchy, unless it is fresh already
         for attempt in range(3):
             if attempt == 2 and not info.rebuilt:
-                info.setup_time += self._setup(A)
+                info.setup_time += self.setup(A)
                 info.rebuilt = True
             M = self._ml.aspreconditioner(cycle="V")
             t = time.perf_counter()
@@ -193,7 +193,7 @@ class LUKrylovSolver:
     def invalidate(self) -> None:
         self._lu = None
 
-    def _factor(self, A) -> float:
+    def factor(self, A) -> float:
         t = time.perf_counter()
         self._lu = spla.splu(A.tocsc(), permc_spec=self.permc_spec)
         self.stats["setups"] += 1
@@ -204,7 +204,7 @@ class LUKrylovSolver:
         B2 = B.reshape(len(B), -1)
         info = SolveInfo()
         if rebuild or self._lu is None:
-            info.setup_time, info.rebuilt = self._factor(A), True
+            info.setup_time, info.rebuilt = self.factor(A), True
         for _attempt in range(2):
             lu = self._lu
             M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
@@ -224,7 +224,7 @@ class LUKrylovSolver:
                 break
             if info.rebuilt:
                 raise LinearSolveError(f"LU-preconditioned GMRES stopped at relative residual {info.true_residual:.2e}")
-            info.setup_time += self._factor(A)
+            info.setup_time += self.factor(A)
             info.rebuilt = True
         if info.iterations > self.max_iterations_before_refactor * B2.shape[1]:
             self._lu = None  # refactor at the next solve
@@ -243,7 +243,7 @@ class LUKrylovSolver:
         n = A.shape[0]
         info = SolveInfo()
         if self._lu is None:
-            info.setup_time, info.rebuilt = self._factor(A), True
+            info.setup_time, info.rebuilt = self.factor(A), True
         matvec = lambda x: np.concatenate([A @ x[:n] + c * x[n], [d @ x[:n] + e * x[n]]])  # noqa: E731
         op = spla.LinearOperator((n + 1, n + 1), matvec=matvec, dtype=float)
         nb = float(np.linalg.norm(b))
@@ -273,7 +273,7 @@ class LUKrylovSolver:
             if info.rebuilt:
                 raise LinearSolveError(f"LU-preconditioned GMRES (bordered) stopped at relative residual "
                                        f"{info.true_residual:.2e}")
-            info.setup_time += self._factor(A)
+            info.setup_time += self.factor(A)
             info.rebuilt = True
         its = info.iterations
         if self._base_iterations is None:
@@ -290,12 +290,10 @@ class LUKrylovSolver:
 SOLVERS = ("amg", "lu_krylov", "direct")
 
 
-def make_solver(kind: str, nodes: np.ndarray | None = None, rtol: float = 1e-8):
-    """A solver by name: 'amg' (rigid-body modes of ``nodes``), 'lu_krylov' or 'direct'."""
+def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | None = None):
+    """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes), 'lu_krylov' or 'direct'."""
     if kind == "amg":
-        from .assembly import rigid_body_modes
-
-        return AMGSolver(near_null_space=None if nodes is None else rigid_body_modes(nodes), rtol=rtol)
+        return AMGSolver(near_null_space=near_null_space, rtol=rtol)
     if kind == "lu_krylov":
         return LUKrylovSolver(rtol=rtol)
     if kind == "direct":

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from . import material
+from ..laws import material
 from .element import QUADS
 from .mesh import Mesh
 
@@ -39,7 +39,7 @@ class SparsePattern:
     slot: np.ndarray
 
     @classmethod
-    def from_blocks(cls, dofs: np.ndarray, n: int) -> "SparsePattern":
+    def from_blocks(cls, dofs: np.ndarray, n: int) -> SparsePattern:
         m = dofs.shape[1]
         rows = np.repeat(dofs, m, axis=1).ravel()
         cols = np.tile(dofs, (1, m)).ravel()
@@ -84,7 +84,7 @@ class Dirichlet:
     diag: np.ndarray  # CSR data positions of constrained diagonals
 
     @classmethod
-    def on_nodes(cls, nodes: np.ndarray, pattern: SparsePattern) -> "Dirichlet":
+    def on_nodes(cls, nodes: np.ndarray, pattern: SparsePattern) -> Dirichlet:
         dofs = np.sort(np.concatenate([2 * nodes, 2 * nodes + 1]))
         fixed = np.zeros(pattern.n, dtype=bool)
         fixed[dofs] = True
@@ -150,14 +150,14 @@ class BulkForm:
     def _gather(self, fe: np.ndarray) -> np.ndarray:
         return np.bincount(self.dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
 
-    def _internal_force(self, P: np.ndarray) -> np.ndarray:
+    def internal_force(self, P: np.ndarray) -> np.ndarray:
         # f_ai = sum_q sum_J dN_aJ w P_iJ: (e, a, q*2) @ (e, q*2, 2) with P_iJ ordered (q, J), i
         e, q = P.shape[:2]
         return self._gather(self._dNw_cell @ np.swapaxes(P, -1, -2).reshape(e, q * 2, 2))
 
     def residual(self, u: np.ndarray) -> np.ndarray:
         """Internal force vector f_int (E L0), node-major."""
-        return self._internal_force(material.first_piola(self.deformation_gradient(u), self.lam, self.mu))
+        return self.internal_force(material.first_piola(self.deformation_gradient(u), self.lam, self.mu))
 
     @property
     def _outer(self) -> np.ndarray | None:
@@ -171,7 +171,7 @@ class BulkForm:
                 self._outer_cache = False
         return self._outer_cache if self._outer_cache is not False else None
 
-    def _element_tangents(self, A: np.ndarray) -> np.ndarray:
+    def element_tangents(self, A: np.ndarray) -> np.ndarray:
         """K_e[(a,i), (b,k)] = sum_q dN_aJ A_iJkL dN_bL w, (e, 2a, 2a)."""
         e, q, a, _ = self.dN.shape
         outer = self._outer
@@ -187,7 +187,7 @@ class BulkForm:
     def residual_and_tangent_data(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(f_int, CSR data of the tangent) for the fixed pattern."""
         P, A = material.first_piola_and_tangent(self.deformation_gradient(u), self.lam, self.mu)
-        return self._internal_force(P), self.pattern.values(self._element_tangents(A))
+        return self.internal_force(P), self.pattern.values(self.element_tangents(A))
 
     def residual_and_tangent(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
         f, data = self.residual_and_tangent_data(u)

@@ -11,8 +11,8 @@ increment (``||dx||_inf <= dx_tol``, in length units) to be small.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -106,4 +106,5 @@ def newton(
         if not math.isfinite(r_norm) or r_norm > options.divergence_factor * r0:
             return NewtonResult(x, False, it, f"diverged: residual {r_norm:.3e}", norms, lin_its)
         r, solve = linearize(x)
-    return NewtonResult(x, False, options.max_iterations, f"no convergence in {options.max_iterations} iterations (residual {r_norm:.3e})", norms, lin_its)
+    return NewtonResult(x, False, options.max_iterations,
+                        f"no convergence in {options.max_iterations} iterations (residual {r_norm:.3e})", norms, lin_its)

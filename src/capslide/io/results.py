@@ -8,24 +8,23 @@ the configuration as YAML text and every parameter flattened to
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
 import yaml
 
-from . import __version__
+from ..config import flatten
+from ..fem.element import gauss_legendre, line_shape
+from ..fem.mesh import Mesh
+from ..states import Phase, SlipState, Status, flag_attributes
+from ..version import __version__
 from .atomic import replacing
-from .config import flatten
-from .mesh import Mesh
 
-__all__ = ["CONVENTIONS", "STATUSES", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset", "read_mesh",
-           "case_dataset", "collect"]
-
-STATUSES = ("completed", "detached", "diverged")
-PHASE_FLAGS = ("approach", "preload", "slide")
-SLIP_FLAGS = ("free", "stick", "slip")
+__all__ = ["CONVENTIONS", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset",
+           "case_dataset", "collect", "STEP_VARIABLES", "CASE_SCALARS"]
 
 CONVENTIONS = "CF-1.10"
 
@@ -72,10 +71,13 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None) -> xr.Data
             "X_node": ("node", mesh.nodes[:, 0], {"units": "L0", "long_name": "reference x coordinate of node"}),
             "Y_node": ("node", mesh.nodes[:, 1], {"units": "L0", "long_name": "reference y coordinate of node"}),
             "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64),
-                           {"units": "1", "long_name": "node ids of cell (Q1: counter-clockwise; Q2: corners, mid-edges, centre)"}),
-            "base_nodes": ("base_node", mesh.base.astype(np.int64), {"units": "1", "long_name": "node ids on the fixed base y = 0"}),
+                           {"units": "1",
+                            "long_name": "node ids of cell (Q1: counter-clockwise; Q2: corners, mid-edges, centre)"}),
+            "base_nodes": ("base_node", mesh.base.astype(np.int64),
+                           {"units": "1", "long_name": "node ids on the fixed base y = 0"}),
             "surface_segment_nodes": (("surface_segment", "segment_node"), mesh.surface_segments.astype(np.int64),
-                                      {"units": "1", "long_name": f"node ids of top-surface line elements (order {order}), sorted by reference x"}),
+                                      {"units": "1", "long_name": f"node ids of top-surface line elements (order {order}), "
+                                                                  "sorted by reference x"}),
         },
         attrs={"element": mesh.element, "n_dofs": mesh.n_dofs,
                **{f"mesh_{k}": _attr_value(v) for k, v in mesh.info.items()}},
@@ -94,23 +96,13 @@ def mesh_from_dataset(ds: xr.Dataset) -> Mesh:
                 ds["surface_segment_nodes"].values, info)
 
 
-def read_mesh(path: str | Path) -> Mesh:
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return mesh_from_dataset(ds.load())
-
-
-def _flag(meanings, long_name):
-    return {"long_name": long_name, "units": "1", "flag_values": np.arange(len(meanings), dtype=np.int8),
-            "flag_meanings": " ".join(meanings)}
-
-
 def _normalized(long_name: str, si_units: str, si_scale: float) -> dict:
     """Attributes of a normalized quantity: multiply by si_scale to get si_units."""
     return {"units": "1", "long_name": long_name, "si_units": si_units, "si_scale": si_scale}
 
 
 def case_dataset(result) -> xr.Dataset:
-    """A :class:`capslide.case.CaseResult` as the case file of DESIGN section 7."""
+    """A :class:`capslide.driver.case.CaseResult` as the case file of DESIGN section 7."""
     p, recs, mesh = result.params, result.records, result.mesh
     E, L0 = p.units.E, p.units.L0
     F, S, L = E * L0, E, L0  # SI scales: force per width (N/m), stress (Pa), length (m)
@@ -120,31 +112,40 @@ def case_dataset(result) -> xr.Dataset:
                                    if recs else np.zeros((0, n_pts), dtype=dt))
     X_surface = np.einsum("ga,sa->sg", *(_surface_shape(mesh, p))).ravel() if recs else np.zeros(0)
     data = {
-        "phase": ("step", np.array([PHASE_FLAGS.index(r.phase) for r in recs], dtype=np.int8),
-                  _flag(PHASE_FLAGS, "load phase")),
+        "phase": ("step", np.array([int(r.phase) for r in recs], dtype=np.int8), flag_attributes(Phase, "load phase")),
         "ubar": ("step", step("ubar"), _normalized("tangential substrate displacement / L0", "m", L)),
         "h": ("step", step("h"), _normalized("height of the substrate's lower face above the base / L0", "m", L)),
         "Fn": ("step", step("Fn"), _normalized("normal contact force on the cap / (E L0 W), positive = tensile", "N/m", F)),
-        "Ft": ("step", step("Ft"), _normalized("tangential contact force on the cap / (E L0 W), positive in the sliding direction", "N/m", F)),
-        "area": ("step", step("area"), _normalized(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0, / L0", "m", L)),
-        "area_compressive": ("step", step("area_compressive"), _normalized("current length where Tn >= 0 (compressive), / L0", "m", L)),
+        "Ft": ("step", step("Ft"),
+               _normalized("tangential contact force on the cap / (E L0 W), positive in the sliding direction", "N/m", F)),
+        "area": ("step", step("area"),
+                 _normalized(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0, / L0", "m", L)),
+        "area_compressive": ("step", step("area_compressive"),
+                             _normalized("current length where Tn >= 0 (compressive), / L0", "m", L)),
         "area_stick": ("step", step("area_stick"), _normalized("current length of sticking points in contact, / L0", "m", L)),
         "x_left": ("step", step("x_left"), _normalized("current x of the left (trailing) contact edge / L0", "m", L)),
         "x_right": ("step", step("x_right"), _normalized("current x of the right (leading) contact edge / L0", "m", L)),
-        "newton_iterations": ("step", step("newton_iterations").astype(np.int32), {"units": "1", "long_name": "Newton iterations of the step"}),
-        "krylov_iterations": ("step", step("krylov_iterations").astype(np.int32), {"units": "1", "long_name": "Krylov iterations of the step"}),
+        "newton_iterations": ("step", step("newton_iterations").astype(np.int32),
+                              {"units": "1", "long_name": "Newton iterations of the step"}),
+        "krylov_iterations": ("step", step("krylov_iterations").astype(np.int32),
+                              {"units": "1", "long_name": "Krylov iterations of the step"}),
         "wall_time": ("step", step("wall_time"), {"units": "s", "long_name": "wall time of the step"}),
         "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float),
-                         _normalized("x force of the clamped base on the cap / (E L0 W); force balance: Ft + base_force_x = 0", "N/m", F)),
+                         _normalized("x force of the clamped base on the cap / (E L0 W); force balance: Ft + base_force_x = 0",
+                                     "N/m", F)),
         "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float),
-                         _normalized("y force of the clamped base on the cap / (E L0 W); force balance: Fn + base_force_y = 0", "N/m", F)),
+                         _normalized("y force of the clamped base on the cap / (E L0 W); force balance: Fn + base_force_y = 0",
+                                     "N/m", F)),
         "X_surface": ("surface_point", X_surface, _normalized("reference x of the surface Gauss point / L0", "m", L)),
         "x_surface": (("step", "surface_point"), prof("x_surface"), _normalized("current x of the surface point / L0", "m", L)),
         "y_surface": (("step", "surface_point"), prof("y_surface"), _normalized("current y of the surface point / L0", "m", L)),
         "gap": (("step", "surface_point"), prof("gap"), _normalized("normal gap g_n / L0", "m", L)),
-        "traction_n": (("step", "surface_point"), prof("traction_n"), _normalized("normal traction Tn per reference area / E, positive = repulsive", "Pa", S)),
-        "traction_t": (("step", "surface_point"), prof("traction_t"), _normalized("tangential traction on the cap per reference area / E, positive = +x", "Pa", S)),
-        "slip_state": (("step", "surface_point"), prof("slip_state", np.int8), _flag(SLIP_FLAGS, "friction state of the surface point")),
+        "traction_n": (("step", "surface_point"), prof("traction_n"),
+                       _normalized("normal traction Tn per reference area / E, positive = repulsive", "Pa", S)),
+        "traction_t": (("step", "surface_point"), prof("traction_t"),
+                       _normalized("tangential traction on the cap per reference area / E, positive = +x", "Pa", S)),
+        "slip_state": (("step", "surface_point"), prof("slip_state", np.int8),
+                       flag_attributes(SlipState, "friction state of the surface point")),
     }
     if not p.config["output"]["surface_profiles"]:
         for name in ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state"):
@@ -158,10 +159,12 @@ def case_dataset(result) -> xr.Dataset:
     })
     snaps = result.snapshots
     data.update({
-        "snapshot_ubar": ("snapshot", np.array([sn.ubar for sn in snaps], dtype=float), _normalized("ubar of the field snapshot / L0", "m", L)),
+        "snapshot_ubar": ("snapshot", np.array([sn.ubar for sn in snaps], dtype=float),
+                          _normalized("ubar of the field snapshot / L0", "m", L)),
         "X_node": ("node", mesh.nodes[:, 0], _normalized("reference x of the mesh node / L0", "m", L)),
         "Y_node": ("node", mesh.nodes[:, 1], _normalized("reference y of the mesh node / L0", "m", L)),
-        "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64), {"units": "1", "long_name": "node ids of the cell (element.py order)"}),
+        "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64),
+                       {"units": "1", "long_name": "node ids of the cell (element.py order)"}),
         "u_node": (("snapshot", "node"), np.array([sn.u[:, 0] for sn in snaps]).reshape(len(snaps), mesh.n_nodes),
                    _normalized("x displacement of the node / L0", "m", L)),
         "v_node": (("snapshot", "node"), np.array([sn.u[:, 1] for sn in snaps]).reshape(len(snaps), mesh.n_nodes),
@@ -172,7 +175,7 @@ def case_dataset(result) -> xr.Dataset:
     ds = xr.Dataset({k: xr.Variable(v[0], v[1], v[2]) for k, v in data.items()})
     ds.attrs.update(config_attrs(p.config))
     ds.attrs.update({
-        "status": result.status, "status_reason": result.reason or "none",
+        "status": result.status.label, "status_reason": result.reason or "none",
         "status_step": len(recs) - 1, "cutbacks": result.cutbacks,
         "min_step": float(result.min_step), "case_wall_time": float(result.wall_time),
         "element": mesh.element, "n_cells": mesh.n_cells, "n_dofs": mesh.n_dofs,
@@ -183,8 +186,6 @@ def case_dataset(result) -> xr.Dataset:
 
 def _surface_shape(mesh: Mesh, p):
     """Shape values at the surface Gauss points and the reference x of segment nodes."""
-    from .element import gauss_legendre, line_shape
-
     s, _ = gauss_legendre(p.mesh.surface_gauss_points)
     N, _ = line_shape(mesh.surface_segments.shape[1] - 1, s)
     return N, mesh.nodes[mesh.surface_segments, 0]
@@ -220,11 +221,12 @@ def collect(paths) -> xr.Dataset:
         data[name] = (("case", "step"), arr, attrs)
     for name in CASE_SCALARS:
         data[name] = ("case", np.array([float(c[name]) for c in cases]), dict(cases[0][name].attrs))
-    status = np.array([STATUSES.index(c.attrs.get("status", "diverged")) for c in cases], dtype=np.int8)
-    data["status"] = ("case", status, _flag(STATUSES, "final status of the case"))
+    status = np.array([Status.from_label(c.attrs.get("status", "diverged")) for c in cases], dtype=np.int8)
+    data["status"] = ("case", status, flag_attributes(Status, "final status of the case"))
     onset_only = [str(c.attrs.get("loading.stop_at_onset", "false")).lower() in ("true", "1") for c in cases]
     data["slide_end"] = ("case", np.array(onset_only, dtype=np.int8),
-                         _flag(("ubar_max", "onset"), "where the slide was set to end (loading.stop_at_onset)"))
+                         {"long_name": "where the slide was set to end (loading.stop_at_onset)", "units": "1",
+                          "flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "ubar_max onset"})
     data["n_steps"] = ("case", np.array([c.sizes["step"] for c in cases], dtype=np.int32),
                        {"units": "1", "long_name": "number of converged steps of the case"})
     model = [str(c.attrs["friction.model"]) for c in cases]

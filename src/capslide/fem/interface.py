@@ -13,8 +13,9 @@ point of the substrate in the substrate's frame; the tangential gap is
 g_t = x - (xi + ubar), the trial traction per reference area -eps_t g_t,
 returned to the threshold J_s t_slide(g_n) (model DI, J_s = |dx/dX| the
 surface stretch) or T_slide(g_n) (model EA). The traction on the cap is
-T_t e_x (positive in the sliding direction). Anchors change only in
-:meth:`SurfaceContact.commit`, called at converged steps.
+T_t e_x (positive in the sliding direction). The anchors are the friction
+history: they are passed in explicitly (None: friction not started) and
+renewed only by :meth:`SurfaceContact.committed_anchors` at converged steps.
 
 Only points with g_n below ``far_gap`` are evaluated and assembled: the
 law's tail beyond it is dropped (the error it makes is a measured knob).
@@ -26,14 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import contact
+from ..laws import contact
+from ..laws.friction import FrictionLaw
+from ..params import Adhesion
+from ..states import SlipState
 from .element import gauss_legendre, line_shape
 from .mesh import Mesh
-from .params import Adhesion, Friction
 
-__all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization", "FREE", "STICK", "SLIP", "interval_measures"]
-
-FREE, STICK, SLIP = 0, 1, 2  # slip_state flags
+__all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization"]
 
 
 @dataclass(frozen=True)
@@ -48,7 +49,7 @@ class SurfaceQuadrature:
     X_nodes: np.ndarray  # (s, p+1, 2) reference positions of the segment nodes
 
     @classmethod
-    def on(cls, mesh: Mesh, n_gauss: int) -> "SurfaceQuadrature":
+    def on(cls, mesh: Mesh, n_gauss: int) -> SurfaceQuadrature:
         seg = mesh.surface_segments
         s, w = gauss_legendre(n_gauss)
         N, dN = line_shape(seg.shape[1] - 1, s)
@@ -105,11 +106,15 @@ class _Points:
 
 
 class SurfaceContact:
-    """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h."""
+    """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h.
+
+    ``law`` is the friction law (None: frictionless), ``eps_t`` the tangential penalty of its return map (E/L0);
+    friction acts where anchors are given.
+    """
 
     def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
-                 friction: Friction | None = None, contact_gap: float = np.inf):
-        self.mesh, self.adhesion, self.friction = mesh, adhesion, friction
+                 law: FrictionLaw | None = None, eps_t: float = 0.0, contact_gap: float = np.inf):
+        self.mesh, self.adhesion, self.law, self.eps_t = mesh, adhesion, law, eps_t
         self.contact_gap = contact_gap  # points with g_n <= contact_gap count as in contact
         self.quad = SurfaceQuadrature.on(mesh, n_gauss)
         self.far_gap = far_gap
@@ -117,13 +122,11 @@ class SurfaceContact:
         seg = mesh.surface_segments
         self.seg_dofs = np.stack([2 * seg, 2 * seg + 1], axis=-1).reshape(len(seg), -1)  # (s, 2(p+1))
         self.n_dofs = mesh.n_dofs
-        self.anchors: np.ndarray | None = None  # (s, g) substrate-frame anchors; None: friction not started
         dX = np.einsum("ga,sai->sgi", self.quad.dN, self.quad.X_nodes)
-        self._ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
+        self.ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
 
-    @property
-    def friction_active(self) -> bool:
-        return self.anchors is not None and self.friction is not None and self.friction.model != "none"
+    def friction_active(self, anchors: np.ndarray | None) -> bool:
+        return anchors is not None and self.law is not None
 
     # -- pointwise laws ---------------------------------------------------
     def traction(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -135,13 +138,6 @@ class SurfaceContact:
             Tn = np.maximum(Tn, 0.0)
         return Tn, dTn
 
-    def threshold(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Sliding threshold and d/dg: DI per current area (t_slide), EA per reference area (T_slide)."""
-        f, a = self.friction, self.adhesion
-        if f.model == "DI":
-            return contact.di_threshold(g, f.tau_DI, f.k_DI, f.g_cut_DI)
-        return contact.ea_threshold(g, f.mu_EA, f.g_cut_EA, a.T0, a.r0, a.g_reg)
-
     def gaps(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Normal gaps (s, g) and current positions (s, g, 2)."""
         x, _ = self.quad.current(u)
@@ -151,7 +147,7 @@ class SurfaceContact:
         """Segments with at least one Gauss point closer than far_gap."""
         return np.flatnonzero(np.any(g < self.far_gap, axis=1))
 
-    def _points(self, u: np.ndarray, h: float, ubar: float, with_friction: bool) -> _Points:
+    def _points(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None) -> _Points:
         x, t = self.quad.current(u)
         g = h - x[..., 1]
         act = self.active(g)
@@ -159,29 +155,25 @@ class SurfaceContact:
         near = g < self.far_gap
         Tn, dTn = self.traction(np.where(near, g, self.far_gap))
         pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0))
-        if with_friction and self.friction_active:
-            f = self.friction
-            thr, dthr = self.threshold(g)
-            thr, dthr = np.where(near, thr, 0.0), np.where(near, dthr, 0.0)
-            T_len = self._ref_len[act]
+        if self.friction_active(anchors):
+            eps_t = self.eps_t
+            T_len = self.ref_len[act]
             J = np.linalg.norm(t, axis=-1) / T_len
-            if f.model == "DI":
-                thr_ref, dthr_ref = J * thr, J * dthr
-            else:
-                thr_ref, dthr_ref = thr, dthr
-            trial = -f.eps_t * (x[..., 0] - self.anchors[act] - ubar)
-            Tt, slipping, dT_dtrial, dT_dthr = contact.return_map(trial, thr_ref)
+            thr, dthr_dg, dthr_dJ = (np.where(near, v, 0.0) for v in self.law.threshold(g, J))
+            trial = -eps_t * (x[..., 0] - anchors[act] - ubar)
+            Tt, slipping, dT_dtrial, dT_dthr = contact.return_map(trial, thr)
             pts.Tt, pts.slipping = Tt, slipping
-            pts.dTt_dx = -f.eps_t * dT_dtrial
-            pts.dTt_dg = dT_dthr * dthr_ref
-            pts.dTt_dJ = dT_dthr * thr if f.model == "DI" else np.zeros_like(Tt)
+            pts.dTt_dx = -eps_t * dT_dtrial
+            pts.dTt_dg = dT_dthr * dthr_dg
+            pts.dTt_dJ = dT_dthr * dthr_dJ
             pts.t, pts.T_len = t, T_len
         return pts
 
     # -- residual and linearization --------------------------------------
-    def force(self, u: np.ndarray, h: float, ubar: float = 0.0) -> tuple[np.ndarray, float, float]:
+    def force(self, u: np.ndarray, h: float, ubar: float = 0.0,
+              anchors: np.ndarray | None = None) -> tuple[np.ndarray, float, float]:
         """Contact force vector on the cap (n_dofs), Fn and Ft."""
-        pts = self._points(u, h, ubar, with_friction=True)
+        pts = self._points(u, h, ubar, anchors)
         W, N, seg = self.quad.weight[pts.act], self.quad.N, self.quad.segments[pts.act]
         f = np.zeros(self.n_dofs)
         np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, pts.Tn, W))  # T_y = -Tn
@@ -191,8 +183,9 @@ class SurfaceContact:
             Ft = float(np.sum(pts.Tt * W))
         return f, float(-np.sum(pts.Tn * W)), Ft
 
-    def linearize(self, u: np.ndarray, h: float, ubar: float = 0.0) -> ContactLinearization:
-        pts = self._points(u, h, ubar, with_friction=True)
+    def linearize(self, u: np.ndarray, h: float, ubar: float = 0.0,
+                  anchors: np.ndarray | None = None) -> ContactLinearization:
+        pts = self._points(u, h, ubar, anchors)
         act = pts.act
         W, N, dN = self.quad.weight[act], self.quad.N, self.quad.dN
         seg = self.quad.segments[act]
@@ -223,64 +216,36 @@ class SurfaceContact:
         )
 
     # -- friction history ---------------------------------------------------
-    def start_friction(self, u: np.ndarray, ubar: float = 0.0) -> None:
-        """Anchor every point where it is: zero tangential gap."""
+    def anchors_at(self, u: np.ndarray, ubar: float = 0.0) -> np.ndarray:
+        """Anchors of every point where it is: zero tangential gap, (s, g)."""
         x, _ = self.quad.current(u)
-        self.anchors = x[..., 0] - ubar
+        return x[..., 0] - ubar
 
-    def tangential_state(self, u: np.ndarray, h: float, ubar: float):
-        """Per point (s, g): tangential traction T_t and slip flags (FREE, STICK, SLIP)."""
+    def tangential_state(self, u: np.ndarray, h: float, ubar: float,
+                         anchors: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """Per point (s, g): tangential traction T_t and slip states (:class:`capslide.states.SlipState`).
+
+        Before friction starts (no anchors) points in contact report STICK under a friction law, SLIP without one.
+        """
         Tt = np.zeros(self.quad.weight.shape)
-        state = np.full(Tt.shape, FREE, dtype=np.int8)
+        state = np.full(Tt.shape, SlipState.FREE, dtype=np.int8)
         g, _ = self.gaps(u, h)
         in_contact = g <= self.contact_gap
-        if self.friction_active:
-            pts = self._points(u, h, ubar, with_friction=True)
+        if self.friction_active(anchors):
+            pts = self._points(u, h, ubar, anchors)
             Tt[pts.act] = pts.Tt
-            st = np.where(pts.slipping, SLIP, STICK).astype(np.int8)
+            st = np.where(pts.slipping, SlipState.SLIP, SlipState.STICK).astype(np.int8)
             state[pts.act] = st
-            state[~in_contact] = FREE
+            state[~in_contact] = SlipState.FREE
         else:
-            state[in_contact] = STICK if self.friction is not None and self.friction.model != "none" else SLIP
+            state[in_contact] = SlipState.STICK if self.law is not None else SlipState.SLIP
         return Tt, state
 
-    def commit(self, u: np.ndarray, h: float, ubar: float) -> None:
-        """Update the anchors to the converged state (slipping points move with the return map)."""
-        if not self.friction_active:
-            return
+    def committed_anchors(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None) -> np.ndarray | None:
+        """The anchors after the converged state (u, h, ubar): slipping points move with the return map."""
+        if not self.friction_active(anchors):
+            return anchors
         x, _ = self.quad.current(u)
-        Tt, _ = self.tangential_state(u, h, ubar)
+        Tt, _ = self.tangential_state(u, h, ubar, anchors)
         # anchor such that -eps_t (x - xi - ubar) = T_t
-        self.anchors = x[..., 0] - ubar + Tt / self.friction.eps_t
-
-
-def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:
-    """Length and edges of the part of a polyline where an interpolated value is <= 0.
-
-    ``x`` (n, 2) points ordered along the surface, ``v`` (n,) values at them
-    (for the contact area: g_n - threshold). Linear interpolation of v
-    between neighbours. Returns (length, x_left, x_right); edges are NaN
-    when no part qualifies.
-    """
-    v0, v1 = v[:-1], v[1:]
-    seg = np.linalg.norm(np.diff(x, axis=0), axis=1)
-    both = (v0 <= 0) & (v1 <= 0)
-    cross = (v0 <= 0) != (v1 <= 0)
-    t = np.where(cross, v0 / np.where(cross, v0 - v1, 1.0), 0.0)  # where v crosses zero, from the first point
-    frac = np.where(both, 1.0, np.where(cross, np.where(v0 <= 0, t, 1.0 - t), 0.0))
-    length = float(np.sum(frac * seg))
-    inside = np.flatnonzero(v <= 0)
-    if len(inside) == 0:
-        return length, float("nan"), float("nan")
-    i, j = inside[0], inside[-1]
-    if i > 0:
-        ti = v[i - 1] / (v[i - 1] - v[i])
-        xl = x[i - 1, 0] + ti * (x[i, 0] - x[i - 1, 0])
-    else:
-        xl = x[0, 0]
-    if j < len(v) - 1:
-        tj = v[j] / (v[j] - v[j + 1])
-        xr = x[j, 0] + tj * (x[j + 1, 0] - x[j, 0])
-    else:
-        xr = x[-1, 0]
-    return length, float(xl), float(xr)
+        return x[..., 0] - ubar + Tt / self.eps_t

@@ -1,12 +1,12 @@
 """Speed against error: the runs of a convergence study, their errors, orders and Pareto front.
 
-Pure functions (no file IO). A study spec (``config/convergence.yaml``) names
+A study spec (``config/convergence.yaml``) names
 base cases (config overrides) and sweeps: each sweep varies one config key over
 a list of values on top of its own fixed overrides. Every (case, sweep, value)
-becomes a run; runs with the same overrides share one case file. The CLI
-reads the case files into :class:`RunResult` records; this module turns them
-into the table, the observed convergence orders and the error-versus-time
-front that the figure draws.
+becomes a run; runs with the same overrides share one case file.
+:func:`evaluate` reads the case files into :class:`RunResult` records and
+turns them into the table, the observed convergence orders and the
+error-versus-time front that the figure draws; the rest are pure functions.
 
 Quantities of interest (QoIs), normalized as in the case files: peak Ft
 (E L0 W), onset ubar (L0), contact area at onset (L0), Ft at ubar = 4 L0
@@ -17,17 +17,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["QOIS", "Run", "RunResult", "validate_spec", "study_runs", "run_overrides", "quantities", "reference",
+from ..io.reading import ResultFileError, open_result
+from ..states import Phase
+
+__all__ = ["QOIS", "Run", "RunResult", "check_spec", "study_runs", "run_overrides", "quantities", "reference",
            "observed_orders", "pareto_front", "error_rows", "order_rows", "cheapest_within", "TABLE_COLUMNS", "ORDER_COLUMNS",
-           "markdown_table"]
+           "markdown_table", "read_results", "evaluate"]
 
 QOIS = ("peak_Ft", "onset_ubar", "onset_area", "Ft_at_4")
 QOI_UBAR = 4.0  # L0: the ubar of the QoI Ft_at_4
 REFINEMENT_KEYS = ("mesh.size", "mesh.max_size_over_H")  # sweeps that refine: observed orders are reported
-SLIDE = 2  # phase flag of the slide (results.PHASE_FLAGS)
 
 
 @dataclass(frozen=True)
@@ -53,32 +56,20 @@ class RunResult:
     krylov_iterations: int
 
 
-def validate_spec(spec) -> None:
-    """Raise ValueError naming the first bad entry of a convergence spec."""
-    if not isinstance(spec, dict):
-        raise ValueError("the spec must be a mapping with 'cases', 'sweeps' and 'reference'")
-    for key in ("cases", "sweeps"):
-        if not isinstance(spec.get(key), dict) or not spec[key]:
-            raise ValueError(f"the spec needs a non-empty mapping '{key}'")
-    for name, sets in spec["cases"].items():
-        if not isinstance(sets, dict):
-            raise ValueError(f"cases.{name} must be a mapping of dotted config keys to values")
+def check_spec(spec) -> None:
+    """Raise ValueError naming the first cross-reference of a convergence spec that does not hold (its types and
+    keys are checked by the schema, :func:`capslide.studies.expansion.runs`)."""
     for name, sw in spec["sweeps"].items():
-        if not isinstance(sw, dict) or "key" not in sw or not isinstance(sw.get("values"), list) or not sw["values"]:
-            raise ValueError(f"sweeps.{name} needs 'key' and a non-empty list 'values'")
-        unknown = set(sw) - {"key", "values", "set", "cases"}
-        if unknown:
-            raise ValueError(f"sweeps.{name}: unknown key '{sorted(unknown)[0]}' (allowed: key, values, set, cases)")
         for c in sw.get("cases", []):
             if c not in spec["cases"]:
                 raise ValueError(f"sweeps.{name}.cases: '{c}' is not a case (cases: {', '.join(spec['cases'])})")
         if sw["key"] not in spec.get("base", {}):
             raise ValueError(f"sweeps.{name}.key = {sw['key']!r} must have a value in 'base' (the default of the knob)")
-    ref = spec.get("reference")
-    if not isinstance(ref, dict) or ref.get("sweep") not in spec["sweeps"]:
-        raise ValueError("the spec needs 'reference: {sweep: NAME, value: VALUE}' naming one sweep")
-    if ref.get("value") not in spec["sweeps"][ref["sweep"]]["values"]:
-        raise ValueError(f"reference.value = {ref.get('value')!r} is not a value of sweeps.{ref['sweep']}")
+    ref = spec["reference"]
+    if ref["sweep"] not in spec["sweeps"]:
+        raise ValueError(f"reference.sweep = {ref['sweep']!r} is not a sweep (sweeps: {', '.join(spec['sweeps'])})")
+    if ref["value"] not in spec["sweeps"][ref["sweep"]]["values"]:
+        raise ValueError(f"reference.value = {ref['value']!r} is not a value of sweeps.{ref['sweep']}")
 
 
 def _fmt(value) -> str:
@@ -116,7 +107,7 @@ def quantities(phase: np.ndarray, ubar: np.ndarray, Ft: np.ndarray, peak_Ft: flo
                onset_area: float) -> dict[str, float]:
     """The QoIs of one case from its step arrays and scalars; Ft at ubar = 4 L0 interpolated over the slide
     (exact when a step ends there, as when ubar_max = 4); NaN when the slide did not reach it."""
-    slide = phase == SLIDE
+    slide = phase == Phase.SLIDE
     u, f = ubar[slide], Ft[slide]
     at4 = float(np.interp(QOI_UBAR, u, f)) if u.size and u.min() <= QOI_UBAR <= u.max() else math.nan
     return {"peak_Ft": float(peak_Ft), "onset_ubar": float(onset_ubar), "onset_area": float(onset_area), "Ft_at_4": at4}
@@ -272,3 +263,32 @@ def markdown_table(rows: list[dict], columns: list[str] | None = None) -> str:
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     lines += ["| " + " | ".join(_cell(r.get(c, "")) for c in cols) + " |" for r in rows]
     return "\n".join(lines) + "\n"
+
+
+def read_results(spec: dict, cases_dir: str | Path) -> tuple[list[Run], dict[tuple[str, str], RunResult]]:
+    """The runs of the spec and what the table needs of each case file ``cases_dir/{case}/{run_id}.nc``."""
+    runs = study_runs(spec)
+    results = {}
+    for key in dict.fromkeys((r.case, r.run_id) for r in runs):
+        path = Path(cases_dir) / key[0] / f"{key[1]}.nc"
+        if not path.is_file():
+            raise ResultFileError(f"case file '{path}' does not exist (run: snakemake --cores 2 convergence)")
+        ds = open_result(path)
+        q = quantities(ds["phase"].values, ds["ubar"].values, ds["Ft"].values, float(ds["peak_Ft"]),
+                       float(ds["onset_ubar"]), float(ds["onset_area"]))
+        results[key] = RunResult(str(ds.attrs.get("status")), q, float(ds.attrs.get("case_wall_time", np.nan)),
+                                 int(ds.attrs["n_dofs"]), int(ds.sizes["step"]), int(ds["newton_iterations"].sum()),
+                                 int(ds["krylov_iterations"].sum()))
+    return runs, results
+
+
+def evaluate(spec: dict, cases_dir: str | Path) -> tuple[list[dict], dict, list[dict]]:
+    """Table rows (Pareto front marked per case), the reference of each case, and the observed orders."""
+    runs, results = read_results(spec, cases_dir)
+    rows, refs = error_rows(spec, runs, results)
+    for case in spec["cases"]:
+        idx = [i for i, row in enumerate(rows) if row["case"] == case]
+        mask = pareto_front([rows[i]["wall_time_s"] for i in idx], [rows[i]["error"] for i in idx])
+        for i, on in zip(idx, mask):
+            rows[i]["pareto"] = bool(on)
+    return rows, refs, order_rows(spec, rows)

@@ -1,0 +1,117 @@
+"""Command-line interface: ``capslide <command> ...``.
+
+Bad input ends with a one-line ``capslide: error: ...`` message on stderr and exit code 2, never a traceback;
+nothing is written before the input is known to be good.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+from collections.abc import Sequence
+
+from ..config import ConfigError
+from ..io.reading import ResultFileError
+from ..version import __version__
+from .cases import cmd_collect, cmd_constants, cmd_inspect, cmd_mesh, cmd_run, cmd_vtk
+from .common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, InputError, add_config_args
+from .figures import FIGURE_HELP, cmd_figure
+from .studies import cmd_convergence, cmd_pull_off, cmd_stability, cmd_verify
+
+__all__ = ["main", "build_parser"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="capslide", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"capslide {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("constants", help="print derived CGCM constants as JSON (internal units and SI)")
+    add_config_args(p)
+    p.set_defaults(func=cmd_constants)
+
+    p = sub.add_parser("figure", help=FIGURE_HELP)
+    p.add_argument("name", help="figure name")
+    p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) (model figures)")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help="config override")
+    p.add_argument("--input", metavar="FILE.nc", help="result file to draw from (cap_setup: a mesh file)")
+    p.add_argument("--table", dest="tables", action="append", default=[], metavar="FILE.csv",
+                   help="table(s) to draw from (verification), repeatable")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="output .pdf/.png (repeatable)")
+    p.set_defaults(func=cmd_figure)
+
+    p = sub.add_parser("run", help="run one case (mesh, approach, preload, slide), write its netCDF file")
+    add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="CASE.nc")
+    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
+    p.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint a killed run left beside CASE.nc (output.checkpoint_every)")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
+    add_config_args(p)
+    p.add_argument("--scene", required=True, help="scene name written into the table (hertz, jkr)")
+    p.add_argument("-o", "--output", required=True, metavar="TABLE.csv")
+    p.add_argument("-q", "--quiet", action="store_true")
+    p.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser("collect", help="stack case files into one dataset over a case dimension")
+    p.add_argument("files", nargs="+", metavar="CASE.nc")
+    p.add_argument("-o", "--output", required=True, metavar="CASES.nc")
+    p.set_defaults(func=cmd_collect)
+
+    p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
+    p.add_argument("file", metavar="CASE.nc")
+    p.set_defaults(func=cmd_inspect)
+
+    p = sub.add_parser("stability", help="evaluate the hard cases of a stability spec, write the table (.csv/.md)")
+    p.add_argument("spec", metavar="SPEC.yaml", help="the suite (config/stability.yaml)")
+    p.add_argument("configs", nargs="+", metavar="CONFIG", help="base config file(s) of the cases")
+    p.add_argument("--cases", required=True, metavar="DIR", help="directory with one <case>.nc per hard case")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="table.csv / table.md")
+    p.set_defaults(func=cmd_stability)
+
+    p = sub.add_parser("pull-off", help="write a config overlay: loading.preload = a fraction of a case's pull-off force")
+    p.add_argument("file", metavar="CASE.nc", help="a case that ended detached in its preload (the pull-off force)")
+    p.add_argument("--fraction", type=float, required=True, help="fraction of the pull-off force, in (0, 1]")
+    p.add_argument("-o", "--output", required=True, metavar="OVERLAY.yaml")
+    p.set_defaults(func=cmd_pull_off)
+
+    p = sub.add_parser("convergence", help="evaluate a convergence study: table (.csv/.md), error-vs-time figure (.pdf/.png)")
+    p.add_argument("spec", metavar="SPEC.yaml", help="the study (config/convergence.yaml)")
+    p.add_argument("--cases", required=True, metavar="DIR", help="directory with <case>/<run>.nc per run")
+    p.add_argument("--orders", metavar="FILE.csv", help="also write the observed convergence orders (CSV)")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE",
+                   help="table.csv / table.md / figure .pdf / .png")
+    p.set_defaults(func=cmd_convergence)
+
+    p = sub.add_parser("vtk", help="export the field snapshots of a case file for ParaView (.vtu series + .pvd)")
+    p.add_argument("file", metavar="CASE.nc")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--stem", help="file name stem (default: the case file's)")
+    p.set_defaults(func=cmd_vtk)
+
+    p = sub.add_parser("mesh", help="build the cap mesh of a configuration, write it as netCDF")
+    add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="MESH.nc")
+    p.set_defaults(func=cmd_mesh)
+    return parser
+
+
+def _terminate(signum, frame):
+    raise KeyboardInterrupt  # SIGTERM (kill, a scheduler's time limit): leave like Ctrl-C, temporary files removed
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    signal.signal(signal.SIGTERM, _terminate)
+    try:
+        return args.func(args)
+    except (ConfigError, InputError, ResultFileError) as err:
+        print(f"capslide: error: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:  # Ctrl-C or a scheduler's SIGINT: results are written atomically, nothing partial remains
+        print("capslide: interrupted; no output written", file=sys.stderr)
+        return EXIT_INTERRUPTED

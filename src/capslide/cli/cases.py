@@ -1,0 +1,174 @@
+"""Commands on single cases: constants, mesh, run, collect, inspect, vtk."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..driver.observers import Observer
+from ..io.reading import open_result
+from .common import EXIT_STATUS, InputError, check_outputs, parameters
+
+__all__ = ["ProgressPrinter", "InterruptAfter", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
+           "cmd_vtk"]
+
+# Test hook: after this many converged steps, capslide run sends SIGINT to its own process group (as Ctrl-C does).
+INTERRUPT_AFTER_STEP = "CAPSLIDE_INTERRUPT_AFTER_STEP"
+
+
+class ProgressPrinter(Observer):
+    """One log line per step, or a self-updating line on a terminal; also callable on a step record."""
+
+    def __init__(self, stream=None):
+        self.stream = stream or sys.stderr
+        self.tty = self.stream.isatty()
+
+    def __call__(self, rec) -> None:
+        line = (f"{rec.phase.label:8s} ubar={rec.ubar:7.4f} h={rec.h:9.5f} Fn={rec.Fn:+.5f} Ft={rec.Ft:+.5f} "
+                f"area={rec.area:8.4f} stick={rec.area_stick:8.4f} newton={rec.newton_iterations:2d} "
+                f"krylov={rec.krylov_iterations:4d} t={rec.wall_time:6.2f}s")
+        self.stream.write(("\r" + line) if self.tty else line + "\n")
+        self.stream.flush()
+
+    def step(self, step):
+        self(step.record)
+
+    def close(self) -> None:
+        if self.tty:
+            self.stream.write("\n")
+
+
+class InterruptAfter(Observer):
+    """Sends SIGINT to this process's group after ``n`` converged steps (a deterministic Ctrl-C for tests)."""
+
+    def __init__(self, n: int):
+        self.n, self.seen = n, 0
+
+    def step(self, step):
+        self.seen += 1
+        if self.seen == self.n:
+            os.killpg(os.getpgrp(), signal.SIGINT)
+
+
+def cmd_constants(args) -> int:
+    """Print the derived CGCM and friction constants as JSON."""
+    print(json.dumps(parameters(args).derived_constants(), indent=2))
+    return 0
+
+
+def cmd_mesh(args) -> int:
+    """Build the cap mesh of a configuration and write it as netCDF."""
+    from ..fem.mesh import cap_mesh
+    from ..io.results import mesh_dataset, write_netcdf
+    from ..model.build import cap_mesh_spec
+
+    params = parameters(args)
+    (output,) = check_outputs([args.output], {"nc"})
+    try:
+        mesh = cap_mesh(cap_mesh_spec(params))
+    except ValueError as err:
+        raise InputError(str(err)) from None
+    write_netcdf(mesh_dataset(mesh, params.config), output)
+    print(f"{output}: {mesh.n_cells} {mesh.element} cells, {mesh.n_nodes} nodes, {mesh.n_dofs} DOF, "
+          f"{len(mesh.surface_segments)} surface segments")
+    return 0
+
+
+def cmd_run(args) -> int:
+    """Run one case end to end and write its netCDF file (also when it fails)."""
+    from ..driver.case import run_case
+    from ..io.checkpoint import CheckpointError, checkpoint_path, config_text, load_checkpoint
+    from ..io.results import case_dataset, write_netcdf
+
+    params = parameters(args)
+    (output,) = check_outputs([args.output], {"nc"})
+    output.parent.mkdir(parents=True, exist_ok=True)
+    every = int(params.config["output"]["checkpoint_every"])
+    path = checkpoint_path(output)
+    saved = None
+    if args.resume and path.is_file():
+        try:
+            saved = load_checkpoint(path, config_text(params.config))
+            print(f"capslide: resuming from {path} ({len(saved.records)} converged steps)", file=sys.stderr)
+        except CheckpointError as err:
+            print(f"capslide: {err}; starting afresh", file=sys.stderr)
+    observers = [] if args.quiet else [ProgressPrinter()]
+    if os.environ.get(INTERRUPT_AFTER_STEP):
+        observers.append(InterruptAfter(int(os.environ[INTERRUPT_AFTER_STEP])))
+    result = run_case(params, observers=observers, checkpoint=path if every else None, resume=saved)
+    for obs in observers:
+        if isinstance(obs, ProgressPrinter):
+            obs.close()
+    write_netcdf(case_dataset(result), output)
+    path.unlink(missing_ok=True)
+    s = result.scalars
+    print(f"{output}: {result.status.label}{' (' + result.reason + ')' if result.reason else ''}; "
+          f"{len(result.records)} steps, {result.wall_time:.1f} s; peak Ft = {s['peak_Ft']:.6g}, "
+          f"onset ubar = {s['onset_ubar']:.6g}")
+    return EXIT_STATUS[result.status]
+
+
+def cmd_collect(args) -> int:
+    """Stack case files into one dataset over a case dimension."""
+    from ..io.results import collect, write_netcdf
+
+    (output,) = check_outputs([args.output], {"nc"})
+    missing = [f for f in args.files if not Path(f).is_file()]
+    if missing:
+        raise InputError(f"case file '{missing[0]}' does not exist")
+    try:
+        ds = collect(args.files)
+    except (OSError, ValueError, KeyError) as err:
+        raise InputError(f"cannot collect the case files: {err}") from None
+    write_netcdf(ds, output)
+    print(f"{output}: {ds.sizes['case']} cases, up to {ds.sizes['step']} steps")
+    return 0
+
+
+def cmd_inspect(args) -> int:
+    """Print parameters, status and case scalars of a case file as a table."""
+    ds = open_result(args.file)
+    rows = [("status", ds.attrs.get("status", "?")), ("status_reason", ds.attrs.get("status_reason", ""))]
+    for key in ("friction.model", "friction.s_cut", "loading.preload", "mesh.element", "mesh.size", "n_dofs",
+                "cutbacks", "min_step", "case_wall_time"):
+        if key in ds.attrs:
+            rows.append((key, ds.attrs[key]))
+    for name in ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area"):
+        if name in ds:
+            rows.append((name, f"{float(ds[name]):.6g}  ({ds[name].attrs.get('long_name', '')})"))
+    if "step" in ds.sizes:
+        rows.append(("steps", ds.sizes["step"]))
+    width = max(len(k) for k, _ in rows)
+    for key, value in rows:
+        print(f"{key:<{width}}  {value}")
+    return 0
+
+
+def cmd_vtk(args) -> int:
+    """Export the field snapshots of a case file as a .vtu series with a .pvd index (ParaView)."""
+    from ..io.vtk import write_snapshot_series
+
+    case = open_result(args.file)
+    missing = [k for k in ("snapshot_ubar", "X_node", "Y_node", "cell_nodes", "u_node", "v_node", "I1_sigma") if k not in case]
+    if missing:
+        raise InputError(f"'{args.file}' holds no field snapshots (missing {', '.join(missing)})")
+    if case.sizes.get("snapshot", 0) == 0:
+        raise InputError(f"'{args.file}' holds no field snapshots (snapshot dimension is empty)")
+    out = Path(args.output)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"output '{out}' exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(f"cannot create output directory '{out}': {err.strerror}") from None
+    stem = args.stem or Path(args.file).stem
+    nodes = np.column_stack([case["X_node"].values, case["Y_node"].values])
+    pvd = write_snapshot_series(out, stem, nodes, case["cell_nodes"].values, case["snapshot_ubar"].values,
+                                case["u_node"].values, case["v_node"].values, case["I1_sigma"].values)
+    print(f"{pvd}: {case.sizes['snapshot']} snapshots (time = ubar / L0)")
+    return 0

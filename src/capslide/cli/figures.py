@@ -1,0 +1,57 @@
+"""The figure command: any paper figure from a configuration or from result files."""
+
+from __future__ import annotations
+
+from ..io.reading import config_of, open_result, read_mesh
+from ..params import Parameters
+from .common import InputError, check_outputs, parameters
+
+__all__ = ["cmd_figure", "FIGURE_HELP"]
+
+FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from CONFIG, cap_setup from "
+               "--input MESH.nc, cap_PxAndAc and cap_PxOverAc from --input CASES.nc, cap_Aczoom and cap_xn from "
+               "--input CASE.nc, verification from --table FILE.csv")
+
+
+def cmd_figure(args) -> int:
+    """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
+    from .. import figures  # matplotlib only when a figure is drawn
+
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES,
+             **figures.CASE_FIGURES}
+    if args.name not in known:
+        raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
+    outputs = check_outputs(args.output, {"pdf", "png", "svg"})
+    if args.name in figures.MODEL_FIGURES:
+        if not args.configs:
+            raise InputError(f"figure '{args.name}' needs a CONFIG file")
+        draw = lambda: figures.MODEL_FIGURES[args.name](parameters(args))  # noqa: E731
+    elif args.name in figures.CASES_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
+        cases = open_result(args.input)
+        tau = float(cases.attrs["friction.mu_DI"]) * float(cases.attrs["adhesion.T_max"]) / float(cases.attrs["material.E"])
+        kwargs = {"tau_DI": tau} if args.name == "cap_PxOverAc" else {}
+        draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
+    elif args.name in figures.CASE_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
+        case = open_result(args.input)
+        if "snapshot_ubar" not in case:
+            raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs a case file)")
+        draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
+    elif args.name in figures.TABLE_FIGURES:
+        from ..studies.verification import read_tables
+
+        if not args.tables:
+            raise InputError(f"figure '{args.name}' needs --table FILE.csv")
+        draw = lambda: figures.TABLE_FIGURES[args.name](read_tables(args.tables))  # noqa: E731
+    else:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input MESH.nc")
+        params = Parameters.from_config(config_of(args.input))
+        mesh = read_mesh(args.input)
+        draw = lambda: figures.MESH_FIGURES[args.name](mesh, params)  # noqa: E731
+    with figures.journal_style():
+        figures.save(draw(), outputs)
+    return 0

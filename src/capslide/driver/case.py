@@ -1,0 +1,89 @@
+"""One case end to end: parameters -> model -> the load path observed -> a :class:`CaseResult` with a status.
+
+No file is written here except the checkpoints a caller asks for (see :mod:`capslide.io.results` for the case
+file). Observers record the steps, take field snapshots, stop at the onset of full sliding when asked, restate a
+shear-induced pull-off, show progress (the caller's) and save checkpoints, in that order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..fem.mesh import Mesh
+from ..io.checkpoint import SavedCase, config_text
+from ..loadpath.cap import PathEnd, load_path
+from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
+from ..model.build import build_model
+from ..params import Parameters
+from ..states import Status
+from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snapshots
+
+__all__ = ["CaseResult", "run_case", "snapshot_positions"]
+
+
+@dataclass
+class CaseResult:
+    params: Parameters
+    mesh: Mesh
+    records: list[StepRecord]
+    status: Status
+    reason: str
+    scalars: dict[str, float]
+    snapshots: list[Snapshot] = field(default_factory=list)
+    cutbacks: int = 0
+    min_step: float = float("nan")
+    wall_time: float = 0.0
+    final_x: np.ndarray | None = None  # last converged [u, h]
+
+
+def snapshot_positions(params: Parameters) -> tuple[float, ...]:
+    """The ``output.snapshot_ubar`` values the slide reaches (between 0 and ubar_max)."""
+    L = params.loading
+    return tuple(b for b in params.config["output"]["snapshot_ubar"]
+                 if (0.0 <= b <= L.ubar_max) or (L.ubar_max <= b <= 0.0))
+
+
+def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[Observer] = (),
+             checkpoint: Path | None = None, checkpoint_every: int | None = None,
+             resume: SavedCase | None = None) -> CaseResult:
+    """Run one case; failures end with a status (detached, diverged) and the last converged state.
+
+    ``observers`` see every converged step (progress, for example). With ``checkpoint`` the case is saved there
+    every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case.
+    """
+    model = build_model(params, mesh)
+    wanted = snapshot_positions(params)
+    records = list(resume.records) if resume is not None else []
+    snapshots = list(resume.snapshots) if resume is not None else []
+    clock = Clock(resume.elapsed if resume is not None else 0.0)
+    watching: list[Observer] = [Recorder(records), Snapshots(model, wanted, snapshots), *observers,
+                                PeelOff(records, params.loading.preload)]
+    if params.loading.stop_at_onset:
+        watching.append(OnsetStop())
+    if checkpoint is not None:
+        every = params.config["output"]["checkpoint_every"] if checkpoint_every is None else checkpoint_every
+        watching.append(Checkpointing(checkpoint, every, config_text(params.config), model, records, snapshots, clock))
+    path = load_path(model, wanted, start=resume.state if resume is not None else None)
+    end = _observe(path, watching)
+    for obs in watching:
+        end = obs.end(end)
+    return CaseResult(params, model.mesh, records, end.status, end.reason, sliding_onset(records), snapshots,
+                      end.cutbacks, end.min_step, clock(), end.x)
+
+
+def _observe(path, observers: Sequence[Observer]) -> PathEnd:
+    """Feed every step of ``path`` to the observers until the path ends or one of them stops it."""
+    while True:
+        try:
+            step = next(path)
+        except StopIteration as done:
+            return done.value
+        for obs in observers:
+            stop = obs.step(step)
+            if stop is not None:
+                path.close()
+                return PathEnd(stop.status, stop.reason, step.x, *step.state.totals(), step.state.leg)

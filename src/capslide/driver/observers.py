@@ -1,0 +1,121 @@
+"""Observers of a running case: each sees every converged step in order, and may end the case there.
+
+The driver (:mod:`capslide.driver.case`) calls ``step(step)`` on each observer in turn; an observer that returns a
+:class:`Stop` ends the case at that step (the observers after it do not see the step). ``end(end)`` may restate
+how the case ended once the load path has stopped.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..io.checkpoint import SavedCase, save_checkpoint
+from ..loadpath.cap import PathEnd, PathStep
+from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
+from ..model.system import CapModel
+from ..states import Status
+
+__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Checkpointing", "Clock"]
+
+
+@dataclass(frozen=True)
+class Stop:
+    status: Status
+    reason: str
+
+
+class Observer:
+    """Base class: sees every converged step; ends nothing, restates nothing."""
+
+    def step(self, step: PathStep) -> Stop | None:
+        return None
+
+    def end(self, end: PathEnd) -> PathEnd:
+        return end
+
+
+class Recorder(Observer):
+    """Keeps every step record in ``records``."""
+
+    def __init__(self, records: list[StepRecord]):
+        self.records = records
+
+    def step(self, step):
+        self.records.append(step.record)
+
+
+class Snapshots(Observer):
+    """Field snapshots at the slide positions ``wanted`` (L0): the slide's steps land on them; ubar = 0 is the
+    preloaded state the slide starts from."""
+
+    def __init__(self, model: CapModel, wanted, snapshots: list[Snapshot]):
+        self.model, self.snapshots = model, snapshots
+        self.at_start = any(b == 0.0 for b in wanted)
+
+    def step(self, step):
+        state = step.state
+        if self.at_start and state.leg == "slide" and state.loop is None:  # this state starts the slide
+            self.snapshots.append(field_snapshot(self.model, step.x, 0.0))
+        if step.breakpoint is not None:
+            self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint))
+
+
+class OnsetStop(Observer):
+    """Ends the case at the onset of full sliding (``loading.stop_at_onset``)."""
+
+    def step(self, step):
+        if fully_sliding(step.record):
+            return Stop(Status.COMPLETED, f"slide: stopped at the onset of full sliding, ubar = {step.record.ubar:.6g}")
+
+
+class PeelOff(Observer):
+    """A slide that found no equilibrium under a tensile load while the contact peeled ends detached, not diverged
+    (shear-induced pull-off, :func:`capslide.loadpath.measures.peeling_off`)."""
+
+    def __init__(self, records: list[StepRecord], Fn: float):
+        self.records, self.Fn = records, Fn
+
+    def end(self, end):
+        if end.status != Status.DIVERGED or end.leg != "slide" or not peeling_off(self.records, self.Fn):
+            return end
+        last = self.records[-1]
+        reason = (f"slide: no equilibrium at Fn = {self.Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling "
+                  f"off (area {last.area:.4g}, shrinking, h rising)")
+        return PathEnd(Status.DETACHED, reason, end.x, end.cutbacks, end.min_step, end.leg)
+
+
+class Clock:
+    """Wall time of a case over interruptions: ``elapsed`` seconds before this process, plus this process's."""
+
+    def __init__(self, elapsed: float = 0.0):
+        self.elapsed, self._t0 = elapsed, time.perf_counter()
+
+    def __call__(self) -> float:
+        return self.elapsed + time.perf_counter() - self._t0
+
+
+class Checkpointing(Observer):
+    """Saves the case every ``every`` converged steps to ``path``.
+
+    The model's linear solver renews its factorization at every save, in the uninterrupted run as well, so that a
+    resumed run repeats the same arithmetic and gives the same history.
+    """
+
+    def __init__(self, path: Path, every: int, config_yaml: str, model: CapModel, records: list[StepRecord],
+                 snapshots: list[Snapshot], clock: Clock):
+        self.path, self.every, self.config_yaml, self.model = path, every, config_yaml, model
+        self.records, self.snapshots, self.clock = records, snapshots, clock
+        self._since = 0
+
+    def step(self, step):
+        if not self.every or step.last:
+            return None
+        self._since += 1
+        if self._since < self.every:
+            return None
+        self._since = 0
+        self.model.solver.invalidate()
+        save_checkpoint(self.path, SavedCase(step.state, self.records, self.snapshots, self.clock()), self.config_yaml)
+        return None

@@ -1,0 +1,60 @@
+"""Friction laws as objects chosen once from the parameters (DESIGN section 3; Mergel et al. 2019, section 4.2).
+
+A law gives the sliding threshold per REFERENCE area at a surface point from the normal gap g_n and the current
+surface stretch J_s = |dx/dX|, with both derivatives. Model DI has its threshold per current area, so per
+reference area it is J_s t_slide(g_n); model EA is per reference area already (T_slide(g_n), J_cl = 1).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from ..params import Adhesion, Friction
+from . import contact
+
+__all__ = ["FrictionLaw", "DistanceIndependent", "ExtendedAmontons", "friction_law"]
+
+
+class FrictionLaw(Protocol):
+    def threshold(self, g: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Threshold per reference area and its derivatives with respect to g_n and J_s (stress, E)."""
+
+
+@dataclass(frozen=True)
+class DistanceIndependent:
+    """Model DI: tau / (1 + exp(k (g_n - g_cut))) per current area (paper eq. tslideCA)."""
+
+    tau: float
+    k: float  # 1 / L0
+    g_cut: float  # L0
+
+    def threshold(self, g, J):
+        t, dt = contact.di_threshold(g, self.tau, self.k, self.g_cut)
+        return J * t, J * dt, t
+
+
+@dataclass(frozen=True)
+class ExtendedAmontons:
+    """Model EA: mu [Tn(g_n) - Tn(g_cut)] for g_n < g_cut, else 0, per reference area (paper eq. TslideAM)."""
+
+    mu: float
+    g_cut: float  # L0
+    T0: float
+    r0: float
+    g_reg: float
+
+    def threshold(self, g, J):
+        T, dT = contact.ea_threshold(g, self.mu, self.g_cut, self.T0, self.r0, self.g_reg)
+        return T, dT, np.zeros_like(T)
+
+
+def friction_law(friction: Friction, adhesion: Adhesion) -> FrictionLaw | None:
+    """The law of ``friction.model``: DI, EA, or None (frictionless)."""
+    if friction.model == "DI":
+        return DistanceIndependent(friction.tau_DI, friction.k_DI, friction.g_cut_DI)
+    if friction.model == "EA":
+        return ExtendedAmontons(friction.mu_EA, friction.g_cut_EA, adhesion.T0, adhesion.r0, adhesion.g_reg)
+    return None

@@ -1,0 +1,281 @@
+"""The cap's load path (DESIGN section 5) as one generator of converged states: approach, preload, slide.
+
+The path is a sequence of legs, each an adaptive continuation (:mod:`capslide.loadpath.continuation`) in one
+scalar load parameter:
+
+* ``approach``: the apex gap from ``approach_start_gap`` down to ``approach_end_gap`` (local displacement control
+  follows the jump-in instability through its turning point, so every state is an exact equilibrium with no
+  artificial term);
+* ``spread`` (with ``approach_edge_step`` > 0): the contact edge, its surface points held at the end gap, spreads
+  until Fn <= 0 (stiff, short-range laws, whose apex gap turns too at the snap-in);
+* ``preload``: the normal force to each target; tensile targets are reached by retracting from
+  ``loading.retract_from``, as in the experiment; a retraction that loses the contact ends the path detached;
+* ``slide``: friction starts (anchors at the preloaded state) and ubar goes to ``ubar_max`` at fixed Fn;
+* ``slide back`` (with ``loading.slide_back``): ubar returns to 0.
+
+:class:`PathState` says where the path stands between two steps and holds everything it needs to go on, so
+``load_path(model, start=state)`` continues a saved path. The driver observes the yielded :class:`PathStep` s;
+the path knows nothing of files, terminals or checkpoints.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Generator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..fem.mesh import H0_AT_SIZE_1
+from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
+from ..model.system import CapModel, History
+from ..states import Phase, Status
+from .continuation import Converged, LegEnd, Loop, StepControl, continuation
+from .measures import StepRecord, fully_sliding
+
+__all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
+           "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding"]
+
+LEGS = ("approach", "spread", "preload", "slide", "slide back", "done")
+
+
+@dataclass(frozen=True)
+class Mark:
+    """What the path keeps of a converged step for its own decisions."""
+
+    phase: Phase
+    ubar: float
+    Fn: float
+    area_stick: float
+
+
+@dataclass
+class PathState:
+    """Where the path stands between two steps; ``load_path(model, start=state)`` goes on from here."""
+
+    leg: str  # the running leg, or the next one when ``loop`` is None (one of LEGS)
+    x: np.ndarray  # the current converged state [u, h]
+    history: History = field(default_factory=History)
+    loop: Loop | None = None  # loop variables of the running leg
+    targets: list[float] = field(default_factory=list)  # preload targets not yet reached, the running one first
+    marks: list[Mark] = field(default_factory=list)  # the last two steps
+    cutbacks: int = 0  # over the finished legs
+    smallest: float = math.inf  # smallest step over the finished legs
+
+    def totals(self) -> tuple[int, float]:
+        """Cut-backs and smallest step so far, the running leg included."""
+        if self.loop is None:
+            return self.cutbacks, self.smallest
+        return self.cutbacks + self.loop.cutbacks, min(self.smallest, self.loop.smallest)
+
+
+@dataclass
+class PathStep:
+    """A converged step as the driver sees it. ``state`` is the path after this step (the live object: save it
+    before the path goes on); ``last`` says that the path ends after this step."""
+
+    record: StepRecord
+    x: np.ndarray
+    breakpoint: float | None
+    state: PathState
+    last: bool = False
+
+
+@dataclass(frozen=True)
+class PathEnd:
+    """How the path ended, with its last converged state, cut-backs, smallest step and the leg it ended in."""
+
+    status: Status
+    reason: str
+    x: np.ndarray
+    cutbacks: int
+    min_step: float
+    leg: str
+
+
+def initial_state(model: CapModel) -> PathState:
+    """The undeformed cap with the substrate ``approach_start_gap`` above the apex."""
+    x = np.zeros(model.n_dofs + 1)
+    x[-1] = model.params.geometry.H + model.params.loading.approach_start_gap
+    return PathState("approach", x)
+
+
+def approach_control(model: CapModel) -> StepControl:
+    L = model.params.loading
+    return StepControl(L.approach_step, 1e-4 * model.params.adhesion.r0, L.approach_step, max_cutbacks=L.max_cutbacks)
+
+
+def spread_control(model: CapModel) -> StepControl:
+    # easy_iterations 6: each step moves a steep cohesive zone, Newton takes 5-7 iterations even for short steps
+    step = model.params.loading.approach_edge_step
+    return StepControl(0.25 * step, 1e-4 * step, step, easy_iterations=6, max_cutbacks=model.params.loading.max_cutbacks)
+
+
+def spread_constraint(model: CapModel):
+    """Edge control at the approach's end gap, and the largest edge abscissa the top surface allows."""
+    X_surface = model.mesh.nodes[model.mesh.surface_nodes[[0, -1]], 0]
+    gap = model.params.loading.approach_end_gap
+    return (lambda X: FixedEdgeGap(X, gap)), float(np.min(np.abs(X_surface)))
+
+
+def _force_control(model: CapModel) -> StepControl:
+    L = model.params.loading
+    return StepControl(L.force_step, L.min_force_step, L.force_step, max_cutbacks=L.max_cutbacks)
+
+
+def _slide_control(model: CapModel) -> StepControl:
+    L = model.params.loading
+    return StepControl(L.slide_step, L.min_slide_step, L.max_slide_step, max_cutbacks=L.max_cutbacks)
+
+
+def _min_area(model: CapModel) -> float:
+    """A contact shorter than two surface elements has come off."""
+    return 2.0 * H0_AT_SIZE_1 * model.params.mesh.size
+
+
+def onset_step_limit(marks: list[Mark], ubar: float, tolerance: float = 0.005) -> float:
+    """Largest next slide step while the stick zone closes: the onset of full sliding is then found to about
+    ``tolerance`` |ubar|, whatever the step size elsewhere.
+
+    The onset is predicted by extrapolating the stick area of the last two slide steps linearly to zero; the step
+    is at most half the predicted remaining distance, and at least ``tolerance`` |ubar|.
+    """
+    last = [m for m in marks[-2:] if m.phase == Phase.SLIDE]
+    if len(last) < 2 or last[-1].area_stick <= 0.0:
+        return math.inf
+    (u0, a0), (u1, a1) = [(m.ubar, m.area_stick) for m in last]
+    if a1 >= a0 or u1 == u0:
+        return math.inf
+    u_onset = u1 + a1 * (u1 - u0) / (a0 - a1)
+    # approach the predicted onset in halving steps: the stick zone shrinks faster than linearly at the end
+    return max(0.5 * abs(u_onset - ubar), tolerance * abs(ubar))
+
+
+# -- legs: each sets up its loop (unless resumed), runs it, and says what comes next ----------------------------
+def _run(model: CapModel, state: PathState, steps: Generator[Converged, None, LegEnd],
+         after: str) -> Generator[PathStep, None, LegEnd]:
+    """Relay the continuation's steps as path steps; on completion the state moves on to the leg ``after``."""
+    while True:
+        try:
+            conv = next(steps)
+        except StopIteration as done:
+            return done.value
+        state.x, state.history = conv.x, conv.history
+        state.marks = [*state.marks[-1:], Mark(conv.record.phase, conv.record.ubar, conv.record.Fn,
+                                               conv.record.area_stick)]
+        if conv.end is not None and conv.end.status == Status.COMPLETED:
+            _finish_leg(model, state, after)
+        yield PathStep(conv.record, conv.x, conv.breakpoint, state,
+                       last=conv.end is not None and conv.end.status != Status.COMPLETED)
+
+
+def _finish_leg(model: CapModel, state: PathState, after: str) -> None:
+    cut, smallest = state.totals()
+    state.cutbacks, state.smallest, state.loop = cut, smallest, None
+    if state.leg == "preload":
+        state.targets = state.targets[1:]
+        if state.targets:
+            return
+    if after == "preload":
+        state.targets = _preload_targets(model, state)
+    state.leg = after
+
+
+def _after_preload(model: CapModel) -> str:
+    return "slide" if model.params.loading.ubar_max != 0.0 else "done"
+
+
+def _current_Fn(model: CapModel, state: PathState) -> float:
+    if state.marks:
+        return state.marks[-1].Fn
+    return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors)[1]
+
+
+def _preload_targets(model: CapModel, state: PathState) -> list[float]:
+    """The preload, reached through ``retract_from`` when it is tensile beyond the approach's end force."""
+    L = model.params.loading
+    if L.preload > 0.0 and L.retract_from < min(_current_Fn(model, state), L.preload):
+        return [L.retract_from, L.preload]
+    return [L.preload]
+
+
+def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    L = model.params.loading
+    control = approach_control(model)
+    if state.loop is None:
+        state.loop = Loop.start(state.x, L.approach_start_gap, L.approach_end_gap, control)
+    after = "spread" if L.approach_edge_step > 0.0 else "preload"
+    steps = continuation(model, state.loop, state.history, FixedApexGap, L.approach_end_gap, control, Phase.APPROACH,
+                         "approach")
+    return (yield from _run(model, state, steps, after))
+
+
+def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    constraint_of, X_end = spread_constraint(model)
+    control = spread_control(model)
+    if state.loop is None:
+        state.loop = Loop.start(state.x, 0.0, X_end, control)
+    until = lambda rec: Status.COMPLETED if rec.Fn <= 0.0 else None  # noqa: E731
+    steps = continuation(model, state.loop, state.history, constraint_of, X_end, control, Phase.APPROACH, "approach",
+                         ends=until)
+    return (yield from _run(model, state, steps, "preload"))
+
+
+def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    control = _force_control(model)
+    target = state.targets[0]
+    if state.loop is None:
+        state.loop = Loop.start(state.x, _current_Fn(model, state), target, control)
+    retracting = target > state.loop.value  # only a retraction can pull the contact off
+    min_area = _min_area(model)
+    detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
+    steps = continuation(model, state.loop, state.history, FixedForce, target, control, Phase.PRELOAD, "preload",
+                         ends=detached if retracting else None)
+    end = yield from _run(model, state, steps, _after_preload(model))
+    Fn = _current_Fn(model, state)
+    if end.status == Status.DIVERGED and target > Fn and target > 0:  # no equilibrium at the tensile force: pull-off
+        return LegEnd(Status.DETACHED, f"pull-off: no equilibrium beyond Fn = {Fn:.6g}")
+    return end
+
+
+def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
+               after: str) -> Generator[PathStep, None, LegEnd]:
+    L = model.params.loading
+    control = _slide_control(model)
+    if state.loop is None:
+        state.loop = Loop.start(state.x, start, end, control, breakpoints)
+    min_area = _min_area(model)
+    detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
+    steps = continuation(model, state.loop, state.history, lambda ubar: SlideAtForce(ubar, L.preload), end, control,
+                         Phase.SLIDE, name, ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar))
+    return (yield from _run(model, state, steps, after))
+
+
+def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    L = model.params.loading
+    if state.loop is None:  # friction acts from here on: every point anchored where it is
+        state.history = model.start_friction(state.x, 0.0)
+    after = "slide back" if L.slide_back else "done"
+    return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))
+
+
+def _slide_back(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    L = model.params.loading
+    return (yield from _slide_leg(model, state, L.ubar_max, 0.0, (), "slide back", "done"))
+
+
+_LEG_RUNNERS = {"approach": _approach, "spread": _spread, "preload": _preload, "slide": _slide,
+                "slide back": _slide_back}
+
+
+def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
+              stop_before: str = "done") -> Generator[PathStep, None, PathEnd]:
+    """Converged steps of the cap's load path from ``start`` (default: :func:`initial_state`) until the leg
+    ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
+    how the path ended."""
+    state = start if start is not None else initial_state(model)
+    while state.leg not in (stop_before, "done"):
+        end = yield from _LEG_RUNNERS[state.leg](model, state, snapshot_ubar)
+        if end.status != Status.COMPLETED:
+            return PathEnd(end.status, end.reason, state.x, *state.totals(), state.leg)
+    return PathEnd(Status.COMPLETED, "", state.x, *state.totals(), state.leg)

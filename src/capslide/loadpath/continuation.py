@@ -1,0 +1,169 @@
+"""Adaptive continuation in one scalar load parameter, as a generator of converged states.
+
+``continuation`` steps the parameter from the loop's value to ``end`` under :class:`StepControl`: the step grows
+by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; below
+the minimum step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of
+looping. A secant predictor extrapolates the last two converged states. Each converged step is measured, the
+history committed, and a :class:`Converged` yielded; the generator's return value is the :class:`LegEnd`. The
+loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again from a saved one.
+Nothing here knows of files, terminals or checkpoints.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Generator, Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model.system import CapModel, History
+from ..solvers.newton import NewtonOptions, NewtonResult, newton
+from ..states import Phase, Status
+from .measures import StepRecord, measure
+
+__all__ = ["StepControl", "Loop", "LegEnd", "Converged", "newton_options", "solve_constrained", "continuation",
+           "drain"]
+
+
+@dataclass(frozen=True)
+class StepControl:
+    """Step sizes of a continuation (units of its load parameter) and when to grow or give up."""
+
+    first: float
+    minimum: float
+    maximum: float
+    growth: float = 1.5
+    easy_iterations: int = 4  # a solve with at most this many Newton iterations lets the step grow
+    max_cutbacks: int = 200
+
+
+@dataclass
+class Loop:
+    """The loop variables of a continuation between two steps: all it needs to go on."""
+
+    value: float  # load parameter of the last converged state x
+    step: float  # next step size
+    x: np.ndarray
+    x_prev: np.ndarray | None = None  # the converged state one step before x (secant predictor)
+    value_prev: float = math.nan
+    smallest: float = math.inf  # smallest step taken
+    cutbacks: int = 0
+    pending: list[float] = field(default_factory=list)  # breakpoints still ahead: steps end exactly on them
+
+    @classmethod
+    def start(cls, x: np.ndarray, start: float, end: float, control: StepControl, breakpoints=()) -> Loop:
+        direction = 1.0 if end >= start else -1.0
+        tol = _tolerance(end)
+        pending = sorted((b for b in breakpoints if direction * (b - start) > tol and direction * (end - b) >= -tol),
+                         key=lambda b: direction * b)
+        return cls(start, min(abs(control.first), control.maximum), x, pending=list(pending))
+
+
+@dataclass(frozen=True)
+class LegEnd:
+    status: Status
+    reason: str = ""
+
+
+@dataclass
+class Converged:
+    """One converged step: its record, state, history after it, load parameter, and whether it ends the run."""
+
+    record: StepRecord
+    x: np.ndarray
+    history: History
+    value: float
+    loop: Loop
+    breakpoint: float | None = None  # the breakpoint this step landed on
+    end: LegEnd | None = None  # set on the last step of the continuation
+
+
+def _tolerance(end: float) -> float:
+    return 1e-12 * max(1.0, abs(end))
+
+
+def newton_options(model: CapModel) -> NewtonOptions:
+    """Newton tolerances of the configuration."""
+    s = model.params.solver
+    return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
+
+
+def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndarray,
+                      opts: NewtonOptions) -> NewtonResult:
+    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1)."""
+    return newton(lambda z: model.residual(z, constraint, history), lambda z: model.linearize(z, constraint, history),
+                  x0, opts, r_ref=1.0, admissible=model.admissible)
+
+
+def continuation(model: CapModel, loop: Loop, history: History, constraint_of: Callable[[float], object], end: float,
+                 control: StepControl, phase: Phase, name: str,
+                 ends: Callable[[StepRecord], Status | None] | None = None,
+                 step_limit: Callable[[float], float] | None = None) -> Generator[Converged, None, LegEnd]:
+    """Continue ``loop`` to the load parameter ``end``; ``constraint_of(value)`` is the model constraint there.
+
+    ``ends(record)`` may end the run after a step with a status; ``step_limit(value)`` may cap the next step.
+    ``name`` starts every reason (``"preload: step below minimum ..."``).
+    """
+    direction = 1.0 if end >= loop.value else -1.0
+    tol = _tolerance(end)
+    opts = newton_options(model)
+    while direction * (end - loop.value) > tol:
+        loop.step = min(loop.step, abs(end - loop.value))
+        if step_limit is not None:
+            loop.step = max(min(loop.step, step_limit(loop.value)), control.minimum)
+        if loop.pending:
+            loop.step = min(loop.step, abs(loop.pending[0] - loop.value))
+        target = loop.value + direction * loop.step
+        if loop.pending and abs(target - loop.pending[0]) <= tol:
+            target = loop.pending[0]
+        t0 = time.perf_counter()
+        x0 = loop.x
+        if loop.x_prev is not None and loop.value_prev != loop.value:  # secant predictor
+            x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
+            if not model.admissible(x0):
+                x0 = loop.x
+        c = constraint_of(target)
+        res = solve_constrained(model, c, history, x0, opts)
+        if not res.converged:
+            loop.cutbacks += 1
+            loop.step *= 0.5
+            if loop.cutbacks > control.max_cutbacks:
+                return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
+                              f"{loop.value:.6g} ({res.reason})")
+            if loop.step < control.minimum:
+                return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
+                              f"({res.reason})")
+            continue
+        loop.x_prev, loop.value_prev = loop.x, loop.value
+        loop.x, loop.value = res.x, target
+        loop.smallest = min(loop.smallest, loop.step)
+        rec = measure(model, loop.x, history, phase, c.ubar, res.iterations, res.linear_iterations,
+                      time.perf_counter() - t0)
+        history = model.commit(loop.x, c.ubar, history)  # friction history only at converged steps
+        landed = None
+        if loop.pending and target == loop.pending[0]:
+            landed = loop.pending.pop(0)
+        status = ends(rec) if ends is not None else None
+        leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
+        if leg_end is None:
+            if res.iterations <= control.easy_iterations:
+                loop.step = min(loop.step * control.growth, control.maximum)
+            if not direction * (end - loop.value) > tol:
+                leg_end = LegEnd(Status.COMPLETED)
+        yield Converged(rec, loop.x, history, loop.value, loop, landed, leg_end)
+        if leg_end is not None:
+            return leg_end
+    return LegEnd(Status.COMPLETED)
+
+
+def drain(steps: Iterator, observe: Callable[[object], None] | None = None):
+    """Run a generator of steps to its end, calling ``observe(step)`` on each; its return value."""
+    while True:
+        try:
+            step = next(steps)
+        except StopIteration as done:
+            return done.value
+        if observe is not None:
+            observe(step)

@@ -1,0 +1,142 @@
+"""What is measured at a converged state: the step record, field snapshots, and the onset of full sliding.
+
+Internal units (stress E, length L0, force per width E L0). Sign conventions of DESIGN section 3: Fn on the cap
+positive when tensile, Ft positive in the sliding direction, Tn positive when repulsive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..laws import contact
+from ..model.system import CapModel, History
+from ..states import Phase, SlipState
+
+__all__ = ["StepRecord", "Snapshot", "measure", "field_snapshot", "interval_measures", "fully_sliding",
+           "sliding_onset", "peeling_off"]
+
+
+@dataclass
+class StepRecord:
+    """One converged load step (internal units)."""
+
+    phase: Phase
+    ubar: float
+    h: float
+    Fn: float
+    Ft: float
+    area: float
+    area_compressive: float
+    area_stick: float
+    x_left: float
+    x_right: float
+    newton_iterations: int
+    krylov_iterations: int
+    wall_time: float
+    x_surface: np.ndarray = field(repr=False)
+    y_surface: np.ndarray = field(repr=False)
+    gap: np.ndarray = field(repr=False)
+    traction_n: np.ndarray = field(repr=False)
+    traction_t: np.ndarray = field(repr=False)
+    slip_state: np.ndarray = field(repr=False)
+    reaction: np.ndarray = field(default_factory=lambda: np.zeros(2), repr=False)  # internal force at the clamped base
+
+
+@dataclass
+class Snapshot:
+    """Field state at one tangential displacement."""
+
+    ubar: float
+    u: np.ndarray  # (n_nodes, 2), L0
+    I1_sigma: np.ndarray  # (n_cells,), E
+
+
+def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar: float, newton_its: int,
+            krylov_its: int, wall: float) -> StepRecord:
+    """Per-step scalars and surface profiles of the converged state x (friction from ``history``)."""
+    u, h = model.split(x)
+    g, xs = model.contact.gaps(u, h)
+    Tn, _ = model.contact.traction(g)
+    a = model.params.adhesion
+    Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
+    _, Fn, Ft = model.contact.force(u, h, ubar, history.anchors)
+    Tt, state = model.contact.tangential_state(u, h, ubar, history.anchors)
+    pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
+    area, xl, xr = interval_measures(pts, gg - model.params.contact.area_gap)
+    area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
+    area_s, _, _ = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
+    return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
+                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
+                      model.base_reaction(x))
+
+
+def field_snapshot(model: CapModel, x: np.ndarray, ubar: float) -> Snapshot:
+    """Nodal displacements and the cell-averaged I1(sigma) of the state x."""
+    u = x[:-1]
+    return Snapshot(ubar, u.reshape(-1, 2).copy(), model.bulk.cell_first_invariant(u))
+
+
+def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:
+    """Length and edges of the part of a polyline where an interpolated value is <= 0.
+
+    ``x`` (n, 2) points ordered along the surface, ``v`` (n,) values at them (for the contact area: g_n minus the
+    contact gap). Linear interpolation of v between neighbours. Returns (length, x_left, x_right); edges are NaN
+    when no part qualifies.
+    """
+    v0, v1 = v[:-1], v[1:]
+    seg = np.linalg.norm(np.diff(x, axis=0), axis=1)
+    both = (v0 <= 0) & (v1 <= 0)
+    cross = (v0 <= 0) != (v1 <= 0)
+    t = np.where(cross, v0 / np.where(cross, v0 - v1, 1.0), 0.0)  # where v crosses zero, from the first point
+    frac = np.where(both, 1.0, np.where(cross, np.where(v0 <= 0, t, 1.0 - t), 0.0))
+    length = float(np.sum(frac * seg))
+    inside = np.flatnonzero(v <= 0)
+    if len(inside) == 0:
+        return length, float("nan"), float("nan")
+    i, j = inside[0], inside[-1]
+    if i > 0:
+        ti = v[i - 1] / (v[i - 1] - v[i])
+        xl = x[i - 1, 0] + ti * (x[i, 0] - x[i - 1, 0])
+    else:
+        xl = x[0, 0]
+    if j < len(v) - 1:
+        tj = v[j] / (v[j] - v[j + 1])
+        xr = x[j, 0] + tj * (x[j + 1, 0] - x[j, 0])
+    else:
+        xr = x[-1, 0]
+    return length, float(xl), float(xr)
+
+
+def fully_sliding(rec: StepRecord) -> bool:
+    """A slide step with contact and no sticking point (DESIGN section 5: the onset test)."""
+    return rec.phase == Phase.SLIDE and rec.ubar != 0.0 and rec.area > 0.0 and not np.any(rec.slip_state == SlipState.STICK)
+
+
+def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
+    """Peak Ft and the onset of full sliding (first slide step with no sticking point in contact)."""
+    slide_recs = [r for r in records if r.phase == Phase.SLIDE]
+    out = {"peak_Ft": math.nan, "onset_ubar": math.nan, "onset_Ft": math.nan, "onset_area": math.nan}
+    if not slide_recs:
+        return out
+    Ft = np.array([r.Ft for r in slide_recs])
+    out["peak_Ft"] = float(Ft[np.argmax(np.abs(Ft))])
+    for r in slide_recs:
+        if fully_sliding(r):
+            out.update(onset_ubar=r.ubar, onset_Ft=r.Ft, onset_area=r.area)
+            break
+    return out
+
+
+def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
+    """A slide that lost its equilibrium under a tensile load while the contact peeled: over the last ``n`` slide
+    steps the contact area shrank and the substrate rose at every step. Shear-induced pull-off: the contact's
+    pull-off force fell below the applied Fn (as in the paper's experiments, where small contacts vanish on
+    shearing)."""
+    last = [r for r in records[-n:] if r.phase == Phase.SLIDE]
+    if Fn <= 0.0 or len(last) < n:
+        return False
+    area, h = np.array([r.area for r in last]), np.array([r.h for r in last])
+    return bool(np.all(np.diff(area) < 0) and np.all(np.diff(h) > 0))

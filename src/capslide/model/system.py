@@ -1,0 +1,146 @@
+"""The discrete cap-on-substrate system: bulk + contact + clamped base + one scalar load constraint.
+
+Unknowns x = [u (n_dofs), h]. Equations: the cap's residual R(u, h) = f_int - f_contact = 0 and the constraint
+G(x) = 0 of :mod:`capslide.model.constraints`. The friction history (:class:`History`) is an explicit input of
+every evaluation and is renewed only by :meth:`CapModel.commit` at converged states.
+
+Each Newton step solves the bordered system [K c; d^T e]: with a solver that offers ``solve_bordered``
+(``lu_krylov``) in one Krylov run preconditioned by the bordered system of a stored factorization, otherwise with
+two solves on the same matrix K (K z1 = R, K z2 = c) and the scalar Schur complement e - d.z2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..fem.assembly import BulkForm, Dirichlet
+from ..fem.interface import SurfaceContact
+from ..fem.mesh import Mesh
+from ..laws.friction import friction_law
+from ..params import Parameters
+
+__all__ = ["History", "BorderedSolve", "CapModel"]
+
+
+@dataclass(frozen=True)
+class History:
+    """State variables that change only at converged steps: the friction anchors (s, g), None before friction."""
+
+    anchors: np.ndarray | None = None
+
+
+class BorderedSolve:
+    """Callable returning J^{-1} r for the bordered Jacobian [K c; d^T e]; counts Krylov iterations."""
+
+    def __init__(self, solver, K, c, d, e):
+        self.solver, self.K, self.c, self.d, self.e = solver, K, c, d, e
+        self.iterations = 0
+
+    def __call__(self, r: np.ndarray) -> np.ndarray:
+        if hasattr(self.solver, "solve_bordered"):  # one Krylov run on the whole bordered system
+            x, info = self.solver.solve_bordered(self.K, self.c, self.d, self.e, r)
+            self.iterations += info.iterations
+            return x
+        R, G = r[:-1], r[-1]
+        Z, info = self.solver.solve(self.K, np.column_stack([R, self.c]))
+        self.iterations += info.iterations
+        z1, z2 = Z[:, 0], Z[:, 1]
+        schur = self.e - self.d @ z2
+        if schur == 0.0 or not np.isfinite(schur):
+            raise np.linalg.LinAlgError("singular bordered system (Schur complement zero)")
+        dh = (G - self.d @ z1) / schur
+        return np.concatenate([z1 - z2 * dh, [dh]])
+
+
+class CapModel:
+    """Residual and linearization of the cap against the rigid flat; ``solver`` is the linear solver to use."""
+
+    def __init__(self, mesh: Mesh, params: Parameters, solver):
+        self.mesh, self.params, self.solver = mesh, params, solver
+        m = params.material
+        self.bulk = BulkForm(mesh, m.lam, m.mu)
+        self.contact = SurfaceContact(
+            mesh, params.adhesion, params.mesh.surface_gauss_points,
+            far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
+            law=friction_law(params.friction, params.adhesion), eps_t=params.friction.eps_t,
+            contact_gap=params.contact.area_gap,
+        )
+        self.bc = Dirichlet.on_nodes(mesh.base, self.bulk.pattern)
+        self.n_dofs = mesh.n_dofs
+        # contact blocks of a surface segment land in the bulk pattern (the segment's nodes share a cell)
+        seg_dofs = self.contact.seg_dofs
+        m2 = seg_dofs.shape[1]
+        rows = np.repeat(seg_dofs, m2, axis=1).reshape(-1, m2, m2)
+        cols = np.tile(seg_dofs, (1, m2)).reshape(-1, m2, m2)
+        self._contact_slots = self.bulk.pattern.positions(rows.ravel(), cols.ravel()).reshape(-1, m2 * m2)
+        self.apex_node = int(np.argmax(mesh.nodes[:, 1]))
+        self.apex_y_dof = 2 * self.apex_node + 1
+        self._surface = mesh.surface_nodes
+        self._surface_X = mesh.nodes[self._surface, 0]
+
+    # -- geometry of a state ------------------------------------------------
+    def split(self, x: np.ndarray) -> tuple[np.ndarray, float]:
+        return x[:-1], float(x[-1])
+
+    def apex_gap(self, x: np.ndarray) -> float:
+        u, h = self.split(x)
+        return h - (self.mesh.nodes[self.apex_node, 1] + u[self.apex_y_dof])
+
+    def edge_weights(self, X: float) -> tuple[np.ndarray, np.ndarray]:
+        """y-DOFs and weights w of the mean height (y(-X) + y(X))/2 = sum w (Y + u_y) of the surface points at +-X."""
+        Xs = self._surface_X
+        if not abs(X) <= min(-Xs[0], Xs[-1]):
+            raise ValueError(f"edge abscissa {X:g} outside the top surface [{Xs[0]:g}, {Xs[-1]:g}]")
+        pts = np.array([-abs(X), abs(X)])
+        i = np.clip(np.searchsorted(Xs, pts, side="right") - 1, 0, len(Xs) - 2)
+        t = (pts - Xs[i]) / (Xs[i + 1] - Xs[i])
+        nodes = np.concatenate([self._surface[i], self._surface[i + 1]])
+        return 2 * nodes + 1, 0.5 * np.concatenate([1.0 - t, t])
+
+    def edge_gap(self, x: np.ndarray, X: float) -> float:
+        """Mean gap (L0) of the top-surface material points at reference abscissa +-X."""
+        dofs, w = self.edge_weights(X)
+        y = self.mesh.nodes.ravel()[dofs] + x[dofs]
+        return float(x[-1] - w @ y)
+
+    def admissible(self, x: np.ndarray) -> bool:
+        return self.bulk.min_jacobian(x[:-1]) > 0.0
+
+    # -- Newton callables -------------------------------------------------
+    def residual(self, x: np.ndarray, constraint, history: History) -> np.ndarray:
+        u, h = self.split(x)
+        f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors)
+        r = self.bulk.residual(u) - f_c
+        r[self.bc.dofs] = 0.0
+        return np.concatenate([r, [constraint.residual(self, x, Fn)]])
+
+    def linearize(self, x: np.ndarray, constraint, history: History) -> tuple[np.ndarray, BorderedSolve]:
+        u, h = self.split(x)
+        f_int, data = self.bulk.residual_and_tangent_data(u)
+        lin = self.contact.linearize(u, h, constraint.ubar, history.anchors)
+        np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
+        r = f_int - lin.f
+        self.bc.apply(data, r)
+        c = lin.dR_dh.copy()
+        c[self.bc.dofs] = 0.0
+        d, e = constraint.border(self, x, lin)
+        K = self.bulk.pattern.matrix(data)
+        G = constraint.residual(self, x, lin.Fn)
+        return np.concatenate([r, [G]]), BorderedSolve(self.solver, K, c, d, e)
+
+    # -- friction history ---------------------------------------------------
+    def start_friction(self, x: np.ndarray, ubar: float = 0.0) -> History:
+        """The history with every surface point anchored where it is (friction acts from here on)."""
+        return History(self.contact.anchors_at(x[:-1], ubar))
+
+    def commit(self, x: np.ndarray, ubar: float, history: History) -> History:
+        """The history after the converged state x (slipping points' anchors follow the return map)."""
+        return History(self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors))
+
+    # -- measures of a state ----------------------------------------------
+    def base_reaction(self, x: np.ndarray) -> np.ndarray:
+        """Sum of the internal forces at the clamped base nodes (x, y), E L0."""
+        f = self.bulk.residual(x[:-1]).reshape(-1, 2)
+        return f[self.mesh.base].sum(axis=0)
