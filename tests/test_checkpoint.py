@@ -10,7 +10,7 @@ import xarray as xr
 
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
-from capslide.driver.observers import Observer
+from capslide.driver.observers import AfterSteps
 from capslide.io.checkpoint import CheckpointError, config_text, load_checkpoint
 from capslide.params import Parameters
 from capslide.states import Phase
@@ -27,16 +27,13 @@ class Killed(Exception):
     pass
 
 
-class KillAfter(Observer):
+def kill_after_steps(n: int) -> AfterSteps:
     """Raises after ``n`` converged steps, as a kill would end the process there."""
 
-    def __init__(self, n: int):
-        self.n, self.seen = n, 0
+    def kill():
+        raise Killed
 
-    def step(self, step):
-        self.seen += 1
-        if self.seen == self.n:
-            raise Killed
+    return AfterSteps(n, kill)
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +66,7 @@ def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path
     params, text = setup
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[KillAfter(kill_after)], checkpoint=path, checkpoint_every=7)
+        run_case(params, observers=[kill_after_steps(kill_after)], checkpoint=path, checkpoint_every=7)
     saved = load_checkpoint(path, text)
     assert len(saved.records) == 7 * ((kill_after - 1) // 7)  # the last checkpoint before the kill
     resumed = run_case(params, checkpoint=path, checkpoint_every=7, resume=saved)
@@ -85,7 +82,7 @@ def test_a_checkpoint_at_the_end_of_the_preload_resumes_into_the_slide(setup, un
     reference = run_case(params, checkpoint=tmp_path / "ref", checkpoint_every=n)  # the same renewal schedule
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[KillAfter(n + 2)], checkpoint=path, checkpoint_every=n)
+        run_case(params, observers=[kill_after_steps(n + 2)], checkpoint=path, checkpoint_every=n)
     saved = load_checkpoint(path, text)
     assert saved.state.leg == "slide" and saved.state.loop is None and [s.ubar for s in saved.snapshots] == [0.0]
     assert_same_history(reference, run_case(params, checkpoint=path, checkpoint_every=n, resume=saved))
@@ -95,7 +92,7 @@ def test_checkpoint_of_another_configuration_is_refused(setup, tmp_path):
     params, text = setup
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[KillAfter(3)], checkpoint=path, checkpoint_every=1)
+        run_case(params, observers=[kill_after_steps(3)], checkpoint=path, checkpoint_every=1)
     assert path.is_file() and len(load_checkpoint(path, text).records) == 2
     with pytest.raises(CheckpointError, match="different configuration"):
         load_checkpoint(path, text.replace("eps_t: 100.0", "eps_t: 200.0"))
@@ -127,3 +124,11 @@ def test_cli_resume_after_ctrl_c(tmp_path):
         for name in a.data_vars:
             if name != "wall_time":
                 np.testing.assert_array_equal(b[name].values, a[name].values, err_msg=name)
+
+
+def test_a_checkpoint_holds_every_field_of_a_record():
+    from dataclasses import fields
+
+    from capslide.loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, StepRecord
+
+    assert sorted(RECORD_SCALARS + RECORD_PROFILES) == sorted(f.name for f in fields(StepRecord))

@@ -50,6 +50,20 @@ def test_bad_config_is_one_clear_line(workdir):
     assert "config error: friction.s_cut = 2 is not allowed: must be number >= 0 and <= 1" in res.stdout + res.stderr
 
 
+def test_bad_runs_are_refused_when_the_workflow_is_parsed(workdir):
+    """A bad key in study.models, or in a study spec, stops a dry run with one line naming the run."""
+    bad = workdir / "bad.yaml"
+    bad.write_text("study:\n  models:\n    DI: {friction.modle: DI}\n")
+    res = snakemake(workdir, "-n", "--configfile", "config/config.yaml", "bad.yaml")
+    assert res.returncode != 0
+    assert "study: run DI_Fn-0.288: unknown key 'friction.modle'" in res.stdout + res.stderr
+    spec = workdir / "config" / "convergence.yaml"
+    spec.write_text(spec.read_text().replace("eps_t: {key: friction.eps_t", "eps_t: {key: friction.eps_tt"))
+    res = snakemake(workdir, "-n")
+    assert res.returncode != 0
+    assert "config/convergence.yaml: sweeps.eps_t.key = 'friction.eps_tt' must have a value in 'base'" in res.stdout + res.stderr
+
+
 def test_smoke_workflow_end_to_end(workdir):
     """The CI smoke study: coarse mesh, three cases, collected dataset and cap figures, through Snakemake."""
     import xarray as xr

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..driver.observers import Observer
+from ..driver.observers import AfterSteps, Observer
 from ..io.reading import open_result
 from .common import EXIT_STATUS, InputError, check_outputs, parameters
 
-__all__ = ["ProgressPrinter", "InterruptAfter", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
+__all__ = ["ProgressPrinter", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
            "cmd_vtk"]
 
 # Test hook: after this many converged steps, capslide run sends SIGINT to its own process group (as Ctrl-C does).
@@ -41,18 +41,6 @@ class ProgressPrinter(Observer):
     def close(self) -> None:
         if self.tty:
             self.stream.write("\n")
-
-
-class InterruptAfter(Observer):
-    """Sends SIGINT to this process's group after ``n`` converged steps (a deterministic Ctrl-C for tests)."""
-
-    def __init__(self, n: int):
-        self.n, self.seen = n, 0
-
-    def step(self, step):
-        self.seen += 1
-        if self.seen == self.n:
-            os.killpg(os.getpgrp(), signal.SIGINT)
 
 
 def cmd_constants(args) -> int:
@@ -99,7 +87,8 @@ def cmd_run(args) -> int:
             print(f"capslide: {err}; starting afresh", file=sys.stderr)
     observers = [] if args.quiet else [ProgressPrinter()]
     if os.environ.get(INTERRUPT_AFTER_STEP):
-        observers.append(InterruptAfter(int(os.environ[INTERRUPT_AFTER_STEP])))
+        ctrl_c = lambda: os.killpg(os.getpgrp(), signal.SIGINT)  # noqa: E731 (as Ctrl-C does to a foreground job)
+        observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), ctrl_c))
     result = run_case(params, observers=observers, checkpoint=path if every else None, resume=saved)
     for obs in observers:
         if isinstance(obs, ProgressPrinter):

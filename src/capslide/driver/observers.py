@@ -17,7 +17,7 @@ from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_slid
 from ..model.system import CapModel
 from ..states import Status
 
-__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Checkpointing", "Clock"]
+__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Checkpointing", "Clock", "AfterSteps"]
 
 
 @dataclass(frozen=True)
@@ -84,6 +84,18 @@ class PeelOff(Observer):
         reason = (f"slide: no equilibrium at Fn = {self.Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling "
                   f"off (area {last.area:.4g}, shrinking, h rising)")
         return PathEnd(Status.DETACHED, reason, end.x, end.cutbacks, end.min_step, end.leg)
+
+
+class AfterSteps(Observer):
+    """Calls ``action()`` once, after ``n`` converged steps (a deterministic interruption for tests)."""
+
+    def __init__(self, n: int, action):
+        self.n, self.action, self.seen = n, action, 0
+
+    def step(self, step):
+        self.seen += 1
+        if self.seen == self.n:
+            self.action()
 
 
 class Clock:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 import zipfile
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,16 +19,13 @@ import yaml
 
 from ..loadpath.cap import Mark, PathState
 from ..loadpath.continuation import Loop
-from ..loadpath.measures import Snapshot, StepRecord
+from ..loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, Snapshot, StepRecord
 from ..model.system import History
 from ..states import Phase
 from ..version import __version__
 from .atomic import replacing
 
 __all__ = ["SavedCase", "CheckpointError", "checkpoint_path", "config_text", "save_checkpoint", "load_checkpoint"]
-
-_SCALARS = [f.name for f in fields(StepRecord) if f.type in ("float", "int", "Phase")]
-_PROFILES = [f.name for f in fields(StepRecord) if f.name not in _SCALARS]
 
 
 class CheckpointError(ValueError):
@@ -77,9 +74,9 @@ def save_checkpoint(path: Path, saved: SavedCase, config_yaml: str) -> None:
             arrays["loop_x_prev"] = s.loop.x_prev
     if s.history.anchors is not None:
         arrays["anchors"] = s.history.anchors
-    for name in _SCALARS:
+    for name in RECORD_SCALARS:
         arrays[f"record_{name}"] = np.array([getattr(r, name) for r in saved.records], dtype=float)
-    for name in _PROFILES:
+    for name in RECORD_PROFILES:
         arrays[f"record_{name}"] = np.array([getattr(r, name) for r in saved.records])
     if saved.snapshots:
         arrays["snapshot_u"] = np.stack([sn.u for sn in saved.snapshots])
@@ -91,11 +88,11 @@ def save_checkpoint(path: Path, saved: SavedCase, config_yaml: str) -> None:
 def _records(data, n: int) -> list[StepRecord]:
     out = []
     for i in range(n):
-        kw = {name: float(data[f"record_{name}"][i]) for name in _SCALARS}
+        kw = {name: float(data[f"record_{name}"][i]) for name in RECORD_SCALARS}
         kw["phase"] = Phase(int(kw["phase"]))
         kw["newton_iterations"] = int(kw["newton_iterations"])
         kw["krylov_iterations"] = int(kw["krylov_iterations"])
-        kw.update({name: data[f"record_{name}"][i] for name in _PROFILES})
+        kw.update({name: data[f"record_{name}"][i] for name in RECORD_PROFILES})
         out.append(StepRecord(**kw))
     return out
 

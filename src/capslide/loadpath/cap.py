@@ -30,7 +30,7 @@ from ..fem.mesh import H0_AT_SIZE_1
 from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
 from ..model.system import CapModel, History
 from ..states import Phase, Status
-from .continuation import Converged, LegEnd, Loop, StepControl, continuation
+from .continuation import Converged, Leg, LegEnd, Loop, StepControl, continuation
 from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
@@ -205,8 +205,8 @@ def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Pat
     if state.loop is None:
         state.loop = Loop.start(state.x, L.approach_start_gap, L.approach_end_gap, control)
     after = "spread" if L.approach_edge_step > 0.0 else "preload"
-    steps = continuation(model, state.loop, state.history, FixedApexGap, L.approach_end_gap, control, Phase.APPROACH,
-                         "approach")
+    steps = continuation(model, state.loop, state.history,
+                         Leg(FixedApexGap, L.approach_end_gap, control, Phase.APPROACH, "approach"))
     return (yield from _run(model, state, steps, after))
 
 
@@ -216,8 +216,8 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
     if state.loop is None:
         state.loop = Loop.start(state.x, 0.0, X_end, control)
     until = lambda rec: Status.COMPLETED if rec.Fn <= 0.0 else None  # noqa: E731
-    steps = continuation(model, state.loop, state.history, constraint_of, X_end, control, Phase.APPROACH, "approach",
-                         ends=until)
+    steps = continuation(model, state.loop, state.history,
+                         Leg(constraint_of, X_end, control, Phase.APPROACH, "approach", ends=until))
     return (yield from _run(model, state, steps, "preload"))
 
 
@@ -229,8 +229,8 @@ def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Path
     retracting = target > state.loop.value  # only a retraction can pull the contact off
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
-    steps = continuation(model, state.loop, state.history, FixedForce, target, control, Phase.PRELOAD, "preload",
-                         ends=detached if retracting else None)
+    steps = continuation(model, state.loop, state.history,
+                         Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=detached if retracting else None))
     end = yield from _run(model, state, steps, _after_preload(model))
     Fn = _current_Fn(model, state)
     if end.status == Status.DIVERGED and target > Fn and target > 0:  # no equilibrium at the tensile force: pull-off
@@ -246,8 +246,9 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
-    steps = continuation(model, state.loop, state.history, lambda ubar: SlideAtForce(ubar, L.preload), end, control,
-                         Phase.SLIDE, name, ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar))
+    steps = continuation(model, state.loop, state.history,
+                         Leg(lambda ubar: SlideAtForce(ubar, L.preload), end, control, Phase.SLIDE, name, ends=detached,
+                             step_limit=lambda ubar: onset_step_limit(state.marks, ubar)))
     return (yield from _run(model, state, steps, after))
 
 

@@ -23,7 +23,7 @@ from ..solvers.newton import NewtonOptions, NewtonResult, newton
 from ..states import Phase, Status
 from .measures import StepRecord, measure
 
-__all__ = ["StepControl", "Loop", "LegEnd", "Converged", "newton_options", "solve_constrained", "continuation",
+__all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "newton_options", "solve_constrained", "continuation",
            "drain"]
 
 
@@ -37,6 +37,21 @@ class StepControl:
     growth: float = 1.5
     easy_iterations: int = 4  # a solve with at most this many Newton iterations lets the step grow
     max_cutbacks: int = 200
+
+
+@dataclass(frozen=True)
+class Leg:
+    """What a continuation runs: ``constraint_of(value)`` is the model constraint at load value ``value``, ``end``
+    the value to reach under ``control``; records get ``phase``; reasons start with ``name``. ``ends(record)`` may
+    end the leg after a step with a status; ``step_limit(value)`` may cap the next step."""
+
+    constraint_of: Callable[[float], object]
+    end: float
+    control: StepControl
+    phase: Phase
+    name: str
+    ends: Callable[[StepRecord], Status | None] | None = None
+    step_limit: Callable[[float], float] | None = None
 
 
 @dataclass
@@ -97,15 +112,9 @@ def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndar
                   x0, opts, r_ref=1.0, admissible=model.admissible)
 
 
-def continuation(model: CapModel, loop: Loop, history: History, constraint_of: Callable[[float], object], end: float,
-                 control: StepControl, phase: Phase, name: str,
-                 ends: Callable[[StepRecord], Status | None] | None = None,
-                 step_limit: Callable[[float], float] | None = None) -> Generator[Converged, None, LegEnd]:
-    """Continue ``loop`` to the load parameter ``end``; ``constraint_of(value)`` is the model constraint there.
-
-    ``ends(record)`` may end the run after a step with a status; ``step_limit(value)`` may cap the next step.
-    ``name`` starts every reason (``"preload: step below minimum ..."``).
-    """
+def continuation(model: CapModel, loop: Loop, history: History, leg: Leg) -> Generator[Converged, None, LegEnd]:
+    """Continue ``loop`` to the end of ``leg`` from the friction ``history``; the steps as they converge."""
+    end, control, name, ends, step_limit = leg.end, leg.control, leg.name, leg.ends, leg.step_limit
     direction = 1.0 if end >= loop.value else -1.0
     tol = _tolerance(end)
     opts = newton_options(model)
@@ -124,7 +133,7 @@ def continuation(model: CapModel, loop: Loop, history: History, constraint_of: C
             x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
             if not model.admissible(x0):
                 x0 = loop.x
-        c = constraint_of(target)
+        c = leg.constraint_of(target)
         res = solve_constrained(model, c, history, x0, opts)
         if not res.converged:
             loop.cutbacks += 1
@@ -139,7 +148,7 @@ def continuation(model: CapModel, loop: Loop, history: History, constraint_of: C
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
         loop.smallest = min(loop.smallest, loop.step)
-        rec = measure(model, loop.x, history, phase, c.ubar, res.iterations, res.linear_iterations,
+        rec = measure(model, loop.x, history, leg.phase, c.ubar, res.iterations, res.linear_iterations,
                       time.perf_counter() - t0)
         history = model.commit(loop.x, c.ubar, history)  # friction history only at converged steps
         landed = None

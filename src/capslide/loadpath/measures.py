@@ -15,8 +15,8 @@ from ..laws import contact
 from ..model.system import CapModel, History
 from ..states import Phase, SlipState
 
-__all__ = ["StepRecord", "Snapshot", "measure", "field_snapshot", "interval_measures", "fully_sliding",
-           "sliding_onset", "peeling_off"]
+__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot",
+           "interval_measures", "fully_sliding", "sliding_onset", "peeling_off"]
 
 
 @dataclass
@@ -43,6 +43,11 @@ class StepRecord:
     traction_t: np.ndarray = field(repr=False)
     slip_state: np.ndarray = field(repr=False)
     reaction: np.ndarray = field(default_factory=lambda: np.zeros(2), repr=False)  # internal force at the clamped base
+
+
+RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
+                  "newton_iterations", "krylov_iterations", "wall_time")
+RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction")
 
 
 @dataclass

@@ -33,7 +33,7 @@ import numpy as np
 
 from ..laws import analytic
 from ..loadpath.cap import load_path, spread_constraint, spread_control
-from ..loadpath.continuation import Loop, StepControl, continuation, drain, newton_options, solve_constrained
+from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
 from ..loadpath.measures import StepRecord, measure
 from ..model.build import build_model, cap_mesh_spec
 from ..model.constraints import FixedEdgeGap, FixedForce
@@ -121,13 +121,13 @@ class _Recording:
             self.progress(step.record)
 
 
-def _force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, object]:
-    """Force control from the state x at normal force Fn (its last record's) to the target ``Fn``."""
+def _force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, LegEnd]:
+    """Force control from the state x (at the normal force of the last record) to ``Fn``."""
     L = model.params.loading
     control = StepControl(L.force_step, L.min_force_step, L.force_step, max_cutbacks=L.max_cutbacks)
     start = observe.records[-1].Fn
     loop = Loop.start(x, start, Fn, control)
-    end = drain(continuation(model, loop, History(), FixedForce, Fn, control, Phase.PRELOAD, "preload", ends=ends),
+    end = drain(continuation(model, loop, History(), Leg(FixedForce, Fn, control, Phase.PRELOAD, "preload", ends=ends)),
                 observe)
     return loop, end
 
@@ -178,8 +178,8 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     for P in sorted(loads):  # most tensile first
         until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
         loop = Loop.start(x, X, X_end, control)
-        leg = drain(continuation(model, loop, History(), constraint_of, X_end, control, Phase.APPROACH, "approach",
-                                 ends=until), observe)
+        leg = drain(continuation(model, loop, History(), Leg(constraint_of, X_end, control, Phase.APPROACH, "approach",
+                                                             ends=until)), observe)
         if leg.status != Status.COMPLETED or not leg.reason:
             raise VerificationFailed(f"at P = {P}: {leg.reason or 'the contact edge reached the end of the top surface'}")
         if P < -max(path_forces()):
