@@ -16,3 +16,15 @@ def test_replacing_renames_on_success_and_cleans_up_on_failure(tmp_path):
             tmp.write_text("half")
             raise RuntimeError("killed")
     assert target.read_text() == "new" and sorted(p.name for p in target.parent.iterdir()) == ["out.txt"]
+
+
+def test_two_writers_of_one_file_do_not_share_a_temporary(tmp_path):
+    """Interleaved writers (two processes writing the same output): each has its own temporary, the last rename
+    wins, both complete."""
+    target = tmp_path / "o.nc"
+    with replacing(target) as first, replacing(target) as second:
+        assert first != second and first.parent == second.parent == tmp_path
+        first.write_text("first")
+        second.write_text("second")
+    assert target.read_text() == "first"  # the outer block ends last
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o.nc"]

@@ -11,7 +11,7 @@ import xarray as xr
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
 from capslide.driver.observers import AfterSteps
-from capslide.io.checkpoint import CheckpointError, config_text, load_checkpoint
+from capslide.io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWriter, config_text, load_checkpoint
 from capslide.params import Parameters
 from capslide.states import Phase
 
@@ -42,10 +42,16 @@ def setup(paper_config):
     return Parameters.from_config(config), config_text(config)
 
 
+def run_saving(params, path, every, **kwargs):
+    """run_case saving checkpoints to ``path`` every ``every`` steps (the writer released afterwards, as at exit)."""
+    with CheckpointWriter(path, config_text(params.config)) as writer:
+        return run_case(params, checkpoint=writer, checkpoint_every=every, **kwargs)
+
+
 @pytest.fixture(scope="module")
 def uninterrupted(setup, tmp_path_factory):
     params, _ = setup
-    return run_case(params, checkpoint=tmp_path_factory.mktemp("full") / "ckpt", checkpoint_every=7)
+    return run_saving(params, tmp_path_factory.mktemp("full") / "ckpt", 7)
 
 
 def assert_same_history(a, b):
@@ -66,10 +72,10 @@ def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path
     params, text = setup
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[kill_after_steps(kill_after)], checkpoint=path, checkpoint_every=7)
+        run_saving(params, path, 7, observers=[kill_after_steps(kill_after)])
     saved = load_checkpoint(path, text)
     assert len(saved.records) == 7 * ((kill_after - 1) // 7)  # the last checkpoint before the kill
-    resumed = run_case(params, checkpoint=path, checkpoint_every=7, resume=saved)
+    resumed = run_saving(params, path, 7, resume=saved)
     assert len(resumed.records) > kill_after
     assert_same_history(uninterrupted, resumed)
 
@@ -79,26 +85,70 @@ def test_a_checkpoint_at_the_end_of_the_preload_resumes_into_the_slide(setup, un
     the last preload step."""
     params, text = setup
     n = [r.phase for r in uninterrupted.records].index(Phase.SLIDE)  # steps before the slide
-    reference = run_case(params, checkpoint=tmp_path / "ref", checkpoint_every=n)  # the same renewal schedule
+    reference = run_saving(params, tmp_path / "ref", n)  # the same renewal schedule
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[kill_after_steps(n + 2)], checkpoint=path, checkpoint_every=n)
+        run_saving(params, path, n, observers=[kill_after_steps(n + 2)])
     saved = load_checkpoint(path, text)
     assert saved.state.leg == "slide" and saved.state.loop is None and [s.ubar for s in saved.snapshots] == [0.0]
-    assert_same_history(reference, run_case(params, checkpoint=path, checkpoint_every=n, resume=saved))
+    assert_same_history(reference, run_saving(params, path, n, resume=saved))
 
 
 def test_checkpoint_of_another_configuration_is_refused(setup, tmp_path):
     params, text = setup
     path = tmp_path / "ckpt"
     with pytest.raises(Killed):
-        run_case(params, observers=[kill_after_steps(3)], checkpoint=path, checkpoint_every=1)
-    assert path.is_file() and len(load_checkpoint(path, text).records) == 2
+        run_saving(params, path, 1, observers=[kill_after_steps(3)])
+    assert path.is_dir() and len(load_checkpoint(path, text).records) == 2
     with pytest.raises(CheckpointError, match="different configuration"):
         load_checkpoint(path, text.replace("eps_t: 100.0", "eps_t: 200.0"))
-    path.write_bytes(b"not a checkpoint")
-    with pytest.raises(CheckpointError, match="cannot read checkpoint"):
+
+
+def test_a_save_writes_only_the_new_steps(setup, tmp_path):
+    """Each save adds one chunk of the records since the previous save: O(new steps), not O(all steps)."""
+    import numpy as np
+
+    params, text = setup
+    path = tmp_path / "ckpt"
+    with pytest.raises(Killed):
+        run_saving(params, path, 5, observers=[kill_after_steps(23)])
+    chunks = sorted(path.glob("records-*.npz"))
+    assert [len(np.load(c)["phase"]) for c in chunks] == [5, 5, 5, 5]
+    assert len(load_checkpoint(path, text).records) == 20
+
+
+@pytest.mark.parametrize("damage", ["flip a byte of the state", "flip a byte of a chunk", "drop a chunk", "a file",
+                                    "empty directory"])
+def test_a_damaged_checkpoint_is_refused(setup, tmp_path, damage):
+    params, text = setup
+    path = tmp_path / "ckpt"
+    with pytest.raises(Killed):
+        run_saving(params, path, 4, observers=[kill_after_steps(10)])
+    load_checkpoint(path, text)
+    if damage.startswith("flip"):
+        target = path / "state.npz" if "state" in damage else sorted(path.glob("records-*.npz"))[0]
+        data = bytearray(target.read_bytes())
+        data[len(data) // 2] ^= 0x10
+        target.write_bytes(bytes(data))
+    elif damage == "drop a chunk":
+        sorted(path.glob("records-*.npz"))[-1].unlink()
+    elif damage == "a file":
+        import shutil
+
+        shutil.rmtree(path)
+        path.write_bytes(b"\x80\x04not a checkpoint")
+    else:
+        for f in path.iterdir():
+            f.unlink()
+    with pytest.raises(CheckpointError):
         load_checkpoint(path, text)
+
+
+def test_one_writer_per_checkpoint(setup, tmp_path):
+    params, text = setup
+    with CheckpointWriter(tmp_path / "ckpt", text), pytest.raises(CheckpointBusy, match="another run"):
+        CheckpointWriter(tmp_path / "ckpt", text)
+    CheckpointWriter(tmp_path / "ckpt", text).close()  # free again once the first is done
 
 
 def test_cli_resume_after_ctrl_c(tmp_path):
@@ -115,7 +165,7 @@ def test_cli_resume_after_ctrl_c(tmp_path):
     res = subprocess.run([*cmd, "-o", str(out)], env=env, capture_output=True, text=True, start_new_session=True,
                          preexec_fn=default_sigint)
     assert res.returncode == 130 and "interrupted" in res.stderr, res.stderr
-    assert not out.exists() and ckpt.is_file()
+    assert not out.exists() and ckpt.is_dir()
     res = subprocess.run([*cmd, "--resume", "-o", str(out)], capture_output=True, text=True)
     assert res.returncode == 0 and f"resuming from {ckpt} (" in res.stderr, res.stderr
     assert not ckpt.exists()  # removed once the case file is written
@@ -132,3 +182,30 @@ def test_a_checkpoint_holds_every_field_of_a_record():
     from capslide.loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, StepRecord
 
     assert sorted(RECORD_SCALARS + RECORD_PROFILES) == sorted(f.name for f in fields(StepRecord))
+
+
+def _run_cmd(out, *extra):
+    sets = sum((["--set", s] for s in COARSE + ["output.checkpoint_every=5", *extra]), [])
+    return [sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), *sets, "-q", "-o", str(out)]
+
+
+def test_sighup_leaves_like_ctrl_c(tmp_path):
+    """SIGHUP (a closed terminal) ends a run as SIGINT and SIGTERM do: exit 130, no case file, the checkpoint kept."""
+    out = tmp_path / "case.nc"
+    env = {**os.environ, "CAPSLIDE_INTERRUPT_AFTER_STEP": "12", "CAPSLIDE_INTERRUPT_SIGNAL": "HUP"}
+    res = subprocess.run(_run_cmd(out), env=env, capture_output=True, text=True, start_new_session=True)
+    assert res.returncode == 130 and "interrupted" in res.stderr, res.stderr
+    assert not out.exists() and (tmp_path / ".case.nc.checkpoint").is_dir()
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_two_runs_writing_one_file_both_finish(tmp_path):
+    """Two `capslide run -o o.nc` at once: both exit 0, one keeps the checkpoint to itself, the file is complete."""
+    out = tmp_path / "o.nc"
+    procs = [subprocess.Popen(_run_cmd(out, "loading.ubar_max=0.6"), stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    errs = [p.communicate()[1] for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], errs
+    assert sum("this run keeps no checkpoint" in e for e in errs) <= 1 and not any("Traceback" in e for e in errs)
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "completed" and float(ds["ubar"].max()) == pytest.approx(0.6)  # forth and back
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o.nc"]  # no temporary, no checkpoint left

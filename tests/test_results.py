@@ -41,13 +41,13 @@ def test_mesh_cli_and_figure(tmp_path):
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "setup.png").stat().st_size > 20000
     res = run("mesh", PAPER_CONFIG, "--set", "mesh.band_half_width=40", "-o", tmp_path / "bad.nc")
-    assert res.returncode == 2 and "does not fit" in res.stderr
+    assert res.returncode == 2 and "mesh.band_half_width = 40 is not allowed here" in res.stderr
     assert not (tmp_path / "bad.nc").exists()
     res = run("figure", "cap_setup", "-o", tmp_path / "x.png")
     assert res.returncode == 2 and "--input" in res.stderr
 
 
-def test_case_files_and_collect(tmp_path, paper_config):
+def test_case_files_and_collect(tmp_path, paper_config, capsys):
     import warnings
 
     from capslide.config import apply_overrides, validate
@@ -85,3 +85,10 @@ def test_case_files_and_collect(tmp_path, paper_config):
         if n0 < ds.sizes["step"]:
             assert np.isnan(ds["Ft"][0, n0:]).all()  # padded
         assert list(ds["status"].values) == [0, 0]
+    # inspect reads all three kinds of files capslide writes
+    from capslide.cli import main
+
+    for path, first_words in ((out, "case "), (paths[0], "status ")):
+        capsys.readouterr()
+        assert main(["inspect", str(path)]) == 0
+        assert capsys.readouterr().out.startswith(first_words)

@@ -56,12 +56,22 @@ def test_bad_runs_are_refused_when_the_workflow_is_parsed(workdir):
     bad.write_text("study:\n  models:\n    DI: {friction.modle: DI}\n")
     res = snakemake(workdir, "-n", "--configfile", "config/config.yaml", "bad.yaml")
     assert res.returncode != 0
-    assert "study: run DI_Fn-0.288: unknown key 'friction.modle'" in res.stdout + res.stderr
+    assert "config: run DI_Fn-0.288: unknown key 'friction.modle'" in res.stdout + res.stderr
     spec = workdir / "config" / "convergence.yaml"
     spec.write_text(spec.read_text().replace("eps_t: {key: friction.eps_t", "eps_t: {key: friction.eps_tt"))
     res = snakemake(workdir, "-n")
     assert res.returncode != 0
     assert "config/convergence.yaml: sweeps.eps_t.key = 'friction.eps_tt' must have a value in 'base'" in res.stdout + res.stderr
+
+
+def test_config_values_reach_the_runs(workdir):
+    """--config NAME=VALUE, nested values included, is passed on to capslide run; a non-finite one is refused."""
+    res = snakemake(workdir, "-n", "-p", "results/cases/DI_Fn+0.000.nc", "--config", "preset=fast",
+                    "friction={s_cut: 0.5, eps_t: 200}")
+    assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
+    assert "--set preset=fast --set friction.s_cut=0.5 --set friction.eps_t=200" in res.stdout
+    res = snakemake(workdir, "-n", "--config", "friction={s_cut: .nan}")
+    assert res.returncode != 0 and "config error: friction.s_cut = nan is not allowed" in res.stdout + res.stderr
 
 
 def test_smoke_workflow_end_to_end(workdir):
@@ -120,7 +130,7 @@ def test_smoke_workflow_end_to_end(workdir):
     assert "capslide: interrupted" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()
     assert not (results / "cases" / "EA0_Fn+0.000.nc").exists()
     assert not list((results / "cases").glob(".*tmp*"))
-    assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_file()  # saved at step 40
+    assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_dir()  # saved at step 40
     rerun = snakemake(workdir, "--configfile", "config/smoke.yaml")
     assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
     assert "resuming from" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()

@@ -32,8 +32,10 @@ __all__ = [
     "apply_overrides",
     "apply_settings",
     "override_args",
+    "retyped",
     "apply_preset",
     "check_schema",
+    "check_finite",
     "validate",
     "load_config",
     "flatten",
@@ -45,7 +47,16 @@ class ConfigError(ValueError):
 
 
 class _Loader(yaml.SafeLoader):
-    """SafeLoader that also reads YAML 1.2 floats such as ``2e6`` as numbers."""
+    """SafeLoader that also reads YAML 1.2 floats such as ``2e6`` as numbers, and refuses duplicate keys."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
 
 
 _Loader.add_implicit_resolver(
@@ -74,9 +85,11 @@ def load_yaml(path: str | Path) -> dict:
     """Read one YAML mapping from ``path``; errors name the file."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise ConfigError(f"cannot read config file '{path}': {err.strerror}") from None
+    except UnicodeDecodeError:
+        raise ConfigError(f"config file '{path}' is not a text (UTF-8) file") from None
     try:
         data = _yaml_load(text)
     except yaml.YAMLError as err:
@@ -158,13 +171,31 @@ def _override_text(value: Any) -> str:
     return json.dumps(value)
 
 
+def retyped(value: Any) -> Any:
+    """A value given as text (Snakemake's --config reads nested values as strings) read as YAML: '0.5' -> 0.5."""
+    if isinstance(value, list):
+        return [retyped(v) for v in value]
+    if isinstance(value, Mapping):
+        return {k: retyped(v) for k, v in value.items()}
+    if not isinstance(value, str):
+        return value
+    try:
+        return _yaml_load(value)
+    except yaml.YAMLError:
+        return value
+
+
 def override_args(settings: Mapping[str, Any]) -> list[str]:
     """``key=value`` override strings (for ``--set``) whose values read back as the same YAML values."""
     return [f"{key}={_override_text(value)}" for key, value in settings.items()]
 
 
 def _dotted(path: Iterable) -> str:
-    return ".".join(str(p) for p in path) or "<top level>"
+    """``section.key[2]`` from a path of keys and list indices."""
+    text = ""
+    for p in path:
+        text += f"[{p}]" if isinstance(p, int) else (f".{p}" if text else str(p))
+    return text or "<top level>"
 
 
 def _allowed(spec: Mapping) -> str:
@@ -250,7 +281,7 @@ def apply_preset(config: Mapping) -> dict:
     if name is None:
         return out
     presets = out.get("presets") or {}
-    if not isinstance(presets, Mapping) or name not in presets:
+    if not isinstance(name, str) or not isinstance(presets, Mapping) or name not in presets:
         allowed = ", ".join(map(str, presets)) if isinstance(presets, Mapping) and presets else "none defined"
         raise ConfigError(f"preset = {name!r} is not allowed: must be one of the names in presets ({allowed})")
     values = presets[name]
@@ -262,6 +293,25 @@ def apply_preset(config: Mapping) -> dict:
         path = str(key).split(".")
         _section(out, path, f"presets.{name}: '{key}'").setdefault(path[-1], copy.deepcopy(value))
     return out
+
+
+def _non_finite(value, path: list) -> tuple[str, float] | None:
+    """The dotted key and value of the first NaN or infinite number in a nested configuration, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return _dotted(path), value
+    items = value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, list) else ()
+    for key, item in items:
+        found = _non_finite(item, [*path, key])
+        if found:
+            return found
+    return None
+
+
+def check_finite(instance, prefix: str = "") -> None:
+    """Raise ConfigError naming the first NaN or +-inf anywhere in ``instance`` (no bound of a schema catches NaN)."""
+    found = _non_finite(instance, [])
+    if found:
+        raise ConfigError(f"{prefix}{found[0]} = {found[1]!r} is not allowed: must be a finite number")
 
 
 def check_schema(instance, spec: Mapping, prefix: str = "") -> None:
@@ -278,6 +328,7 @@ def validate(config: Mapping) -> dict:
 
     Returns a new, complete configuration; raises :class:`ConfigError`.
     """
+    check_finite(config)
     out = apply_preset(config)
     check_schema(out, schema())
     _fill_defaults(out, schema())

@@ -12,6 +12,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from .config import ConfigError
+
 __all__ = [
     "cgcm_constants",
     "lame_plane_strain",
@@ -201,7 +203,15 @@ class Parameters:
         geo, msh, load, sol = config["geometry"], config["mesh"], config["loading"], config["solver"]
         units = Units(E=float(mat["E"]), L0=float(geo["L0"]))
         lam, mu = lame_plane_strain(1.0, float(mat["nu"]))
-        c = cgcm_constants(adh["T_max"] / units.E, adh["W_adh"] / units.energy_per_area)
+        try:
+            c = cgcm_constants(adh["T_max"] / units.E, adh["W_adh"] / units.energy_per_area)
+            bad = next((k for k, v in c.items() if not (math.isfinite(v) and v > 0.0)), None)
+        except (ZeroDivisionError, OverflowError):
+            c, bad = {"r0": math.nan}, "r0"
+        if bad is not None:  # finite inputs whose ratios over- or underflow in internal units
+            raise ConfigError(f"adhesion.T_max = {adh['T_max']!r}, adhesion.W_adh = {adh['W_adh']!r}, material.E = "
+                              f"{mat['E']!r} and geometry.L0 = {geo['L0']!r} give {bad} = {c[bad]!r} in units of E and "
+                              "L0: not computable")
         adhesion = Adhesion(
             r0=c["r0"], A_H=c["A_H"], T0=c["T0"], g_eq=c["g_eq"], g_max=c["g_max"],
             T_max=c["T_max"], W_adh=c["W_adh"], g_reg=adh["g_reg_over_g_eq"] * c["g_eq"],

@@ -1,6 +1,6 @@
 # The study's cases: one netCDF file per (model, preload), from config["study"] (capslide.studies.expansion).
 STUDY = config["study"]
-CASES = expand_study(STUDY, "study", "study")  # case name -> overrides
+CASES = expand_study(STUDY, "study", "config")  # case name -> overrides
 CASE_FILES = expand("results/cases/{case}.nc", case=sorted(CASES))
 
 

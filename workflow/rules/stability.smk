@@ -51,18 +51,22 @@ rule stability_case:
         name="|".join(re.escape(n) for n in STABILITY_CASES),
     params:
         overrides=lambda wildcards: set_args(STABILITY_RUNS[wildcards.name]),
+        writers=lambda wildcards: STABILITY["cases"][wildcards.name].get("writers", 1),
     log:
         f"logs/stability/{{name}}.log",
     benchmark:
         f"results/benchmarks/stability/{{name}}.tsv"
-    threads: 1
+    threads: lambda wildcards: STABILITY["cases"][wildcards.name].get("writers", 1)
     resources:
         mem_mb=2000,
         runtime=30,
-    # exit 3 (detached) and 4 (diverged) still write the case file; the table judges the status
+    # `writers` runs at once write the same file (the last rename wins); each must end with exit 0, 3 (detached) or
+    # 4 (diverged), which still write the case file; the table judges the status. Logs: {log}, {log}.2, ...
     shell:
-        THREADS_ENV + " rc=0; " + CAPSLIDE + " run " + CONFIG_ARGS
-        + " {input.overlay} {params.overrides} -o {output} > {log} 2>&1 || rc=$?; test $rc -eq 0 -o $rc -eq 3 -o $rc -eq 4"
+        THREADS_ENV + " pids=; for i in $(seq {params.writers}); do out={log}; [ $i -gt 1 ] && out={log}.$i; "
+        + CAPSLIDE + " run " + CONFIG_ARGS + " {input.overlay} {params.overrides} -o {output} > $out 2>&1 & "
+        + "pids=\"$pids $!\"; done; rc=0; for p in $pids; do wait $p || {{ c=$?; [ $c -eq 3 -o $c -eq 4 ] || rc=$c; }}; "
+        + "done; exit $rc"
 
 
 rule stability_table:

@@ -22,8 +22,17 @@ from .studies import cmd_convergence, cmd_pull_off, cmd_stability, cmd_verify
 __all__ = ["main", "build_parser"]
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error: ``capslide: error: ...`` (no usage block), exit 2."""
+
+    def error(self, message: str):
+        command = self.prog.removeprefix("capslide").strip()
+        help_call = " ".join(["capslide", *([command] if command else []), "--help"])
+        self.exit(EXIT_BAD_INPUT, f"capslide: error: {command + ': ' if command else ''}{message} ({help_call})\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="capslide", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="capslide", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -100,13 +109,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _terminate(signum, frame):
-    raise KeyboardInterrupt  # SIGTERM (kill, a scheduler's time limit): leave like Ctrl-C, temporary files removed
+    raise KeyboardInterrupt  # SIGTERM, SIGHUP (kill, a time limit, a closed terminal): leave like Ctrl-C, nothing partial
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as done:  # --help, --version, or a one-line usage error (exit 2)
+        return int(done.code or 0)
     signal.signal(signal.SIGTERM, _terminate)
+    signal.signal(signal.SIGHUP, _terminate)
     try:
         return args.func(args)
     except (ConfigError, InputError, ResultFileError) as err:

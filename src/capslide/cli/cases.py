@@ -11,14 +11,16 @@ from pathlib import Path
 import numpy as np
 
 from ..driver.observers import AfterSteps, Observer
-from ..io.reading import open_result
+from ..io.reading import kind_of, open_result
 from .common import EXIT_STATUS, InputError, check_outputs, parameters
 
 __all__ = ["ProgressPrinter", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
            "cmd_vtk"]
 
-# Test hook: after this many converged steps, capslide run sends SIGINT to its own process group (as Ctrl-C does).
+# Test hook: after this many converged steps, capslide run sends SIGINT (or the signal named by
+# CAPSLIDE_INTERRUPT_SIGNAL, e.g. HUP) to its own process group, as Ctrl-C does.
 INTERRUPT_AFTER_STEP = "CAPSLIDE_INTERRUPT_AFTER_STEP"
+INTERRUPT_SIGNAL = "CAPSLIDE_INTERRUPT_SIGNAL"
 
 
 class ProgressPrinter(Observer):
@@ -53,14 +55,14 @@ def cmd_mesh(args) -> int:
     """Build the cap mesh of a configuration and write it as netCDF."""
     from ..fem.mesh import cap_mesh
     from ..io.results import mesh_dataset, write_netcdf
+    from ..model import cost
     from ..model.build import cap_mesh_spec
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
-    try:
-        mesh = cap_mesh(cap_mesh_spec(params))
-    except ValueError as err:
-        raise InputError(str(err)) from None
+    spec = cap_mesh_spec(params)
+    cost.check(params, spec, steps=False)
+    mesh = cap_mesh(spec)
     write_netcdf(mesh_dataset(mesh, params.config), output)
     print(f"{output}: {mesh.n_cells} {mesh.element} cells, {mesh.n_nodes} nodes, {mesh.n_dofs} DOF, "
           f"{len(mesh.surface_segments)} surface segments")
@@ -70,31 +72,42 @@ def cmd_mesh(args) -> int:
 def cmd_run(args) -> int:
     """Run one case end to end and write its netCDF file (also when it fails)."""
     from ..driver.case import run_case
-    from ..io.checkpoint import CheckpointError, checkpoint_path, config_text, load_checkpoint
+    from ..io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWriter, checkpoint_path, config_text, load_checkpoint
     from ..io.results import case_dataset, write_netcdf
+    from ..model import cost
+    from ..model.build import cap_mesh_spec
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
+    cost.check(params, cap_mesh_spec(params))  # before anything is written
     output.parent.mkdir(parents=True, exist_ok=True)
     every = int(params.config["output"]["checkpoint_every"])
     path = checkpoint_path(output)
-    saved = None
-    if args.resume and path.is_file():
+    text = config_text(params.config)
+    saved = writer = None
+    if args.resume and path.exists():
         try:
-            saved = load_checkpoint(path, config_text(params.config))
+            saved = load_checkpoint(path, text)
             print(f"capslide: resuming from {path} ({len(saved.records)} converged steps)", file=sys.stderr)
         except CheckpointError as err:
             print(f"capslide: {err}; starting afresh", file=sys.stderr)
+    if every:
+        try:
+            writer = CheckpointWriter(path, text)
+        except CheckpointBusy as err:
+            print(f"capslide: {err}; this run keeps no checkpoint", file=sys.stderr)
     observers = [] if args.quiet else [ProgressPrinter()]
     if os.environ.get(INTERRUPT_AFTER_STEP):
-        ctrl_c = lambda: os.killpg(os.getpgrp(), signal.SIGINT)  # noqa: E731 (as Ctrl-C does to a foreground job)
-        observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), ctrl_c))
-    result = run_case(params, observers=observers, checkpoint=path if every else None, resume=saved)
+        signum = signal.Signals[f"SIG{os.environ.get(INTERRUPT_SIGNAL, 'INT')}"]
+        interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)
+        observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), interrupt))
+    result = run_case(params, observers=observers, checkpoint=writer, resume=saved)
     for obs in observers:
         if isinstance(obs, ProgressPrinter):
             obs.close()
     write_netcdf(case_dataset(result), output)
-    path.unlink(missing_ok=True)
+    if writer is not None:
+        writer.remove()
     s = result.scalars
     print(f"{output}: {result.status.label}{' (' + result.reason + ')' if result.reason else ''}; "
           f"{len(result.records)} steps, {result.wall_time:.1f} s; peak Ft = {s['peak_Ft']:.6g}, "
@@ -107,21 +120,43 @@ def cmd_collect(args) -> int:
     from ..io.results import collect, write_netcdf
 
     (output,) = check_outputs([args.output], {"nc"})
-    missing = [f for f in args.files if not Path(f).is_file()]
-    if missing:
-        raise InputError(f"case file '{missing[0]}' does not exist")
-    try:
-        ds = collect(args.files)
-    except (OSError, ValueError, KeyError) as err:
-        raise InputError(f"cannot collect the case files: {err}") from None
+    for f in map(Path, args.files):
+        if f.is_dir():
+            raise InputError(f"case file '{f}' is a directory")
+        if not f.is_file():
+            raise InputError(f"case file '{f}' does not exist")
+    ds = collect(args.files)
     write_netcdf(ds, output)
     print(f"{output}: {ds.sizes['case']} cases, up to {ds.sizes['step']} steps")
     return 0
 
 
+def _inspect_cases(ds) -> None:
+    """One line per case of a collected file."""
+    print(f"{'case':<16} {'status':<10} {'peak_Ft':>10} {'onset_ubar':>11} {'onset_Ft':>10} {'onset_area':>11}  steps")
+    names = [str(v) for v in ds["case_file"].values] if "case_file" in ds else [str(i) for i in range(ds.sizes["case"])]
+    labels = str(ds["status"].attrs.get("flag_meanings", "")).split()
+    for i, name in enumerate(names):
+        status = int(ds["status"].values[i])
+        print(f"{Path(name).stem:<16} {labels[status] if status < len(labels) else status:<10} "
+              + " ".join(f"{float(ds[q].values[i]):>{w}.6g}" for q, w in (("peak_Ft", 10), ("onset_ubar", 11),
+                                                                           ("onset_Ft", 10), ("onset_area", 11)))
+              + f"  {int(ds['n_steps'].values[i]) if 'n_steps' in ds else ''}")
+
+
 def cmd_inspect(args) -> int:
-    """Print parameters, status and case scalars of a case file as a table."""
+    """Print parameters, status and case scalars of a case file as a table (a collected file: one line per case)."""
     ds = open_result(args.file)
+    kind = kind_of(ds)
+    if kind is None:
+        raise InputError(f"'{args.file}' is not a file capslide wrote (no case, collected or mesh layout)")
+    if kind == "cases":
+        _inspect_cases(ds)
+        return 0
+    if kind == "mesh":
+        print(f"mesh: {ds.sizes['cell']} {ds.attrs['element']} cells, {ds.sizes['node']} nodes, "
+              f"{int(ds.attrs['n_dofs'])} DOF")
+        return 0
     rows = [("status", ds.attrs.get("status", "?")), ("status_reason", ds.attrs.get("status_reason", ""))]
     for key in ("friction.model", "friction.s_cut", "loading.preload", "mesh.element", "mesh.size", "n_dofs",
                 "cutbacks", "min_step", "case_wall_time"):
@@ -142,10 +177,7 @@ def cmd_vtk(args) -> int:
     """Export the field snapshots of a case file as a .vtu series with a .pvd index (ParaView)."""
     from ..io.vtk import write_snapshot_series
 
-    case = open_result(args.file)
-    missing = [k for k in ("snapshot_ubar", "X_node", "Y_node", "cell_nodes", "u_node", "v_node", "I1_sigma") if k not in case]
-    if missing:
-        raise InputError(f"'{args.file}' holds no field snapshots (missing {', '.join(missing)})")
+    case = open_result(args.file, "case")
     if case.sizes.get("snapshot", 0) == 0:
         raise InputError(f"'{args.file}' holds no field snapshots (snapshot dimension is empty)")
     out = Path(args.output)

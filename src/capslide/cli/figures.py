@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..io.reading import config_of, open_result, read_mesh
 from ..params import Parameters
 from .common import InputError, check_outputs, parameters
@@ -29,22 +31,26 @@ def cmd_figure(args) -> int:
     elif args.name in figures.CASES_FIGURES:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
-        cases = open_result(args.input)
+        cases = open_result(args.input, "cases")
         tau = float(cases.attrs["friction.mu_DI"]) * float(cases.attrs["adhesion.T_max"]) / float(cases.attrs["material.E"])
         kwargs = {"tau_DI": tau} if args.name == "cap_PxOverAc" else {}
         draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
     elif args.name in figures.CASE_FIGURES:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
-        case = open_result(args.input)
-        if "snapshot_ubar" not in case:
-            raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs a case file)")
+        case = open_result(args.input, "case")
+        if case.sizes.get("snapshot", 0) == 0:
+            raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs them: "
+                             "output.snapshot_ubar)")
         draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
         from ..studies.verification import read_tables
 
         if not args.tables:
             raise InputError(f"figure '{args.name}' needs --table FILE.csv")
+        for table in args.tables:
+            if not Path(table).is_file():
+                raise InputError(f"table '{table}' does not exist (capslide verify writes it)")
         draw = lambda: figures.TABLE_FIGURES[args.name](read_tables(args.tables))  # noqa: E731
     else:
         if not args.input:

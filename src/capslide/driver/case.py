@@ -9,18 +9,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ..fem.mesh import Mesh
-from ..io.checkpoint import SavedCase, config_text
+from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, load_path
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
-from ..model.build import build_model
+from ..model import cost
+from ..model.build import build_model, cap_mesh_spec
 from ..params import Parameters
 from ..states import Status
-from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snapshots
+from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snapshots, StepBudget
 
 __all__ = ["CaseResult", "run_case", "snapshot_positions"]
 
@@ -48,25 +48,32 @@ def snapshot_positions(params: Parameters) -> tuple[float, ...]:
 
 
 def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[Observer] = (),
-             checkpoint: Path | None = None, checkpoint_every: int | None = None,
+             checkpoint: CheckpointWriter | None = None, checkpoint_every: int | None = None,
              resume: SavedCase | None = None) -> CaseResult:
     """Run one case; failures end with a status (detached, diverged) and the last converged state.
 
-    ``observers`` see every converged step (progress, for example). With ``checkpoint`` the case is saved there
+    ``observers`` see every converged step (progress, for example). With a ``checkpoint`` writer the case is saved
     every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case.
+    A configuration beyond ``limits`` is refused before anything is computed (ConfigError, see
+    :mod:`capslide.model.cost`), and a case that takes more than ``limits.max_steps`` steps ends diverged.
     """
+    if mesh is None:
+        cost.check(params, cap_mesh_spec(params))
+    else:
+        cost.check_steps(params)
     model = build_model(params, mesh)
     wanted = snapshot_positions(params)
     records = list(resume.records) if resume is not None else []
     snapshots = list(resume.snapshots) if resume is not None else []
     clock = Clock(resume.elapsed if resume is not None else 0.0)
     watching: list[Observer] = [Recorder(records), Snapshots(model, wanted, snapshots), *observers,
-                                PeelOff(records, params.loading.preload)]
+                                PeelOff(records, params.loading.preload),
+                                StepBudget(records, params.config["limits"]["max_steps"])]
     if params.loading.stop_at_onset:
         watching.append(OnsetStop())
     if checkpoint is not None:
         every = params.config["output"]["checkpoint_every"] if checkpoint_every is None else checkpoint_every
-        watching.append(Checkpointing(checkpoint, every, config_text(params.config), model, records, snapshots, clock))
+        watching.append(Checkpointing(checkpoint, every, model, records, snapshots, clock))
     path = load_path(model, wanted, start=resume.state if resume is not None else None)
     end = _observe(path, watching)
     for obs in watching:

@@ -9,15 +9,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
-from ..io.checkpoint import SavedCase, save_checkpoint
+from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, PathStep
 from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
 from ..model.system import CapModel
 from ..states import Status
 
-__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Checkpointing", "Clock", "AfterSteps"]
+__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "StepBudget", "Checkpointing", "Clock",
+           "AfterSteps"]
 
 
 @dataclass(frozen=True)
@@ -98,6 +98,21 @@ class AfterSteps(Observer):
             self.action()
 
 
+class StepBudget(Observer):
+    """Ends the case as diverged once it has more than ``limit`` converged steps (``limits.max_steps``): the cost of a
+    case is bounded even where no estimate foresaw it (a preload's range is known only once the approach ends)."""
+
+    def __init__(self, records: list[StepRecord], limit: int):
+        self.records, self.limit = records, limit
+
+    def step(self, step):
+        if len(self.records) > self.limit:
+            return Stop(Status.DIVERGED, f"{step.state.leg}: more than limits.max_steps = {self.limit} steps, stopped at "
+                                         f"ubar = {step.record.ubar:.6g}, Fn = {step.record.Fn:.6g} (raise the limit or "
+                                         f"the step sizes)")
+        return None
+
+
 class Clock:
     """Wall time of a case over interruptions: ``elapsed`` seconds before this process, plus this process's."""
 
@@ -109,15 +124,15 @@ class Clock:
 
 
 class Checkpointing(Observer):
-    """Saves the case every ``every`` converged steps to ``path``.
+    """Saves the case with ``writer`` every ``every`` converged steps.
 
     The model's linear solver renews its factorization at every save, in the uninterrupted run as well, so that a
     resumed run repeats the same arithmetic and gives the same history.
     """
 
-    def __init__(self, path: Path, every: int, config_yaml: str, model: CapModel, records: list[StepRecord],
+    def __init__(self, writer: CheckpointWriter, every: int, model: CapModel, records: list[StepRecord],
                  snapshots: list[Snapshot], clock: Clock):
-        self.path, self.every, self.config_yaml, self.model = path, every, config_yaml, model
+        self.writer, self.every, self.model = writer, every, model
         self.records, self.snapshots, self.clock = records, snapshots, clock
         self._since = 0
 
@@ -129,5 +144,5 @@ class Checkpointing(Observer):
             return None
         self._since = 0
         self.model.solver.invalidate()
-        save_checkpoint(self.path, SavedCase(step.state, self.records, self.snapshots, self.clock()), self.config_yaml)
+        self.writer.save(SavedCase(step.state, self.records, self.snapshots, self.clock()))
         return None

@@ -25,7 +25,8 @@ import numpy as np
 
 from .element import QUADS
 
-__all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "rectangle_mesh", "circular_segment_area", "H0_AT_SIZE_1"]
+__all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "cell_and_node_counts", "band_limit", "BandTooWide", "rectangle_mesh",
+           "circular_segment_area", "H0_AT_SIZE_1"]
 
 # Surface element size (L0) at mesh.size = 1, with 4 layers per level: the
 # paper's cap then has 41,720 Q1 cells, its 42,300-element level
@@ -135,10 +136,74 @@ def _merge_groups(widths: list[float], size: float) -> list[int]:
     return groups
 
 
+@dataclass(frozen=True)
+class _Layer:
+    """One layer of the logical mesh from height v down to v_next: plain (``groups`` None, the columns of ``widths``)
+    or a 3:1 transition (``groups`` per right-half column group of the top row, 3 = merged, 1 = kept)."""
+
+    widths: list[float]  # right-half column widths of the layer's top row
+    v: float
+    v_next: float
+    groups: list[int] | None = None
+
+
+def _layers(spec: CapMeshSpec, U: float):
+    """The layers of the logical Q1 mesh, top down (the grading of the module docstring)."""
+    max_size = spec.max_size_over_H * spec.H
+    widths = _right_half_columns(U, spec.h0, spec.band_half_width, spec.side_growth, max_size)
+    v = spec.H
+    size, plain_left = spec.h0, spec.layers_per_level
+    while v > 1e-12:
+        transition = False
+        if plain_left <= 0:
+            transition = any(w < 1.5 * size for w in widths) and 3 * size <= max_size
+            if not transition:  # columns already coarse: let the layers grow
+                size = min(size * 1.5, max_size)
+        d = 2 * size if transition else size
+        if v - d < 0.75 * size:  # last layer: close at the base, never a sliver
+            d, transition = v, False
+        v_next = max(v - d, 0.0)
+        if not transition:
+            yield _Layer(widths, v, v_next)
+            plain_left -= 1
+        else:
+            groups = _merge_groups(widths, size)
+            yield _Layer(widths, v, v_next, groups)
+            widths = _merged(widths, groups)
+            size *= 3.0
+            plain_left = spec.layers_per_level
+        v = v_next
+
+
+def _merged(widths: list[float], groups: list[int]) -> list[float]:
+    out, i = [], 0
+    for g in groups:
+        out.append(sum(widths[i : i + g]))
+        i += g
+    return out
+
+
+def cell_and_node_counts(spec: CapMeshSpec) -> tuple[int, int]:
+    """Cells and nodes of :func:`cap_mesh` for ``spec``, counted from the layer plan without building the mesh."""
+    phi0, phi1 = _arc_angles(spec)
+    cells = 0
+    nodes = 2 * len(_right_half_columns(spec.R * phi1, spec.h0, spec.band_half_width, spec.side_growth,
+                                        spec.max_size_over_H * spec.H)) + 1  # the top row
+    for layer in _layers(spec, spec.R * phi1):
+        if layer.groups is None:
+            cells += 2 * len(layer.widths)
+            nodes += 2 * len(layer.widths) + 1
+        else:
+            merged = sum(g == 3 for g in layer.groups)
+            cells += 2 * (len(layer.groups) + 3 * merged)
+            nodes += 2 * len(layer.groups) + 1 + 4 * merged
+    if spec.element == "Q2":  # plus one node per edge (E = V + F - 1 for a mesh of a disc) and per cell
+        nodes += (nodes + cells - 1) + cells
+    return cells, nodes
+
+
 def _logical_q1(spec: CapMeshSpec, U: float):
     """Q1 topology in logical coordinates: (nodes (n, 2), cells (m, 4), rows of node ids)."""
-    max_size = spec.max_size_over_H * spec.H
-    right = _right_half_columns(U, spec.h0, spec.band_half_width, spec.side_growth, max_size)
     nodes: list[tuple[float, float]] = []
 
     def add_row(us, v):
@@ -152,36 +217,20 @@ def _logical_q1(spec: CapMeshSpec, U: float):
         return np.concatenate([-b[::-1], b[1:]])
 
     cells: list[list[int]] = []
-    widths = list(right)
-    v = spec.H
-    top = add_row(bounds_of(widths), v)
-    rows = [top]
-    size, plain_left = spec.h0, spec.layers_per_level
-    while v > 1e-12:
-        transition = False
-        if plain_left <= 0:
-            transition = any(w < 1.5 * size for w in widths) and 3 * size <= max_size
-            if not transition:  # columns already coarse: let the layers grow
-                size = min(size * 1.5, max_size)
-        d = 2 * size if transition else size
-        if v - d < 0.75 * size:  # last layer: close at the base, never a sliver
-            d, transition = v, False
-        v_next = max(v - d, 0.0)
-        if not transition:
-            bottom = add_row(bounds_of(widths), v_next)
+    top, rows = None, []
+    for layer in _layers(spec, U):
+        if top is None:
+            top = add_row(bounds_of(layer.widths), layer.v)
+            rows.append(top)
+        if layer.groups is None:
+            bottom = add_row(bounds_of(layer.widths), layer.v_next)
             for j in range(len(top) - 1):
                 cells.append([bottom[j], bottom[j + 1], top[j + 1], top[j]])
-            plain_left -= 1
         else:
-            groups_r = _merge_groups(widths, size)
-            groups = groups_r[::-1] + groups_r  # mirror: the centre is a node
-            new_widths, i = [], 0
-            for g in groups_r:
-                new_widths.append(sum(widths[i : i + g]))
-                i += g
-            bounds_top = bounds_of(widths)
-            bottom = add_row(bounds_of(new_widths), v_next)
-            v_mid = v - 0.5 * d
+            groups = layer.groups[::-1] + layer.groups  # mirror: the centre is a node
+            bounds_top = bounds_of(layer.widths)
+            bottom = add_row(bounds_of(_merged(layer.widths, layer.groups)), layer.v_next)
+            v_mid = 0.5 * (layer.v + layer.v_next)
             j = 0  # column index in the top row
             for k, g in enumerate(groups):
                 b0, b1 = bottom[k], bottom[k + 1]
@@ -192,10 +241,7 @@ def _logical_q1(spec: CapMeshSpec, U: float):
                     t0, t1, t2, t3 = top[j : j + 4]
                     cells += [[b0, m1, t1, t0], [m1, m2, t2, t1], [m2, b1, t3, t2], [b0, b1, m2, m1]]
                 j += g
-            widths = new_widths
-            size *= 3.0
-            plain_left = spec.layers_per_level
-        top, v = bottom, v_next
+        top = bottom
         rows.append(top)
     return np.array(nodes), np.array(cells, dtype=np.int64), rows
 
@@ -237,19 +283,32 @@ def _to_q2(nodes: np.ndarray, cells: np.ndarray):
     return np.vstack([nodes, mids, centres]), cells9, edge_mid
 
 
-def cap_mesh(spec: CapMeshSpec) -> Mesh:
-    """Graded Q1 or Q2 mesh of the cap (see the module docstring)."""
+class BandTooWide(ValueError):
+    """The refined contact band does not fit on the cap's top (the message gives the largest band that does)."""
+
+
+def band_limit(spec: CapMeshSpec) -> float:
+    """The largest contact-band half-width (L0) that fits on the cap top of ``spec``."""
+    return 0.85 * math.acos((spec.R - spec.H) / spec.R) * spec.R - 4 * spec.h0
+
+
+def _arc_angles(spec: CapMeshSpec) -> tuple[float, float]:
+    """Half-angle of the cap's arc and of the logical top edge (the band plus a margin of four elements)."""
     R, H = spec.R, spec.H
     if not 0 < H <= R:
         raise ValueError(f"cap height H = {H} must be in (0, R = {R}]")
     phi0 = math.acos((R - H) / R)  # half-angle of the arc
-    margin = 4 * spec.h0
-    phi1 = max(0.5 * phi0, (spec.band_half_width + margin) / R)
+    phi1 = max(0.5 * phi0, (spec.band_half_width + 4 * spec.h0) / R)
     if phi1 > 0.85 * phi0:
-        raise ValueError(
-            f"contact band half-width {spec.band_half_width:g} L0 does not fit on the cap top "
-            f"(at most {0.85 * phi0 * R - margin:.3g} L0)"
-        )
+        raise BandTooWide(f"contact band half-width {spec.band_half_width:g} L0 does not fit on the cap top "
+                          f"(at most {band_limit(spec):.3g} L0)")
+    return phi0, phi1
+
+
+def cap_mesh(spec: CapMeshSpec) -> Mesh:
+    """Graded Q1 or Q2 mesh of the cap (see the module docstring)."""
+    R = spec.R
+    phi0, phi1 = _arc_angles(spec)
     U = R * phi1
     uv, cells, rows = _logical_q1(spec, U)
     left_edge = [row[0] for row in rows[::-1]]  # from the base corner up to P_L

@@ -1,9 +1,14 @@
-"""Atomic file writes: every result file is written to a temporary name beside it, then renamed."""
+"""Atomic file writes: every result file is written to a temporary name beside it, then renamed onto it.
+
+The temporary name is unique per writer (``.NAME.<random>.tmp``), so two processes writing the same file do not
+disturb each other: the last rename wins, and a reader never sees a partial file.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -12,11 +17,13 @@ __all__ = ["replacing"]
 
 @contextlib.contextmanager
 def replacing(path: str | Path) -> Iterator[Path]:
-    """Yield a temporary path beside ``path`` (``.NAME.tmp``) to write to; rename it onto ``path`` when the block
-    ends normally, remove it when it raises. A reader never sees a partial file at ``path``."""
+    """Yield a fresh temporary path beside ``path`` to write to; rename it onto ``path`` when the block ends
+    normally, remove it when it raises."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    tmp = Path(name)
     try:
         yield tmp
         os.replace(tmp, path)

@@ -1,15 +1,28 @@
 """Checkpoints of a running case, so that ``capslide run --resume`` continues where a killed run stopped.
 
-A checkpoint is one :class:`SavedCase`: the load path's state (:class:`capslide.loadpath.cap.PathState`: leg,
-loop variables, current state, friction anchors, preload targets, last steps, totals), the step records and
-field snapshots so far, and the wall time spent. It is written atomically beside the case file as a NumPy
-``.npz`` archive read back without pickle (it cannot execute code), with the capslide version and the
-configuration it was written for; a checkpoint of another version or configuration is refused.
+A checkpoint holds one :class:`SavedCase`: the load path's state (:class:`capslide.loadpath.cap.PathState`: leg,
+loop variables, current state, friction anchors, preload targets, last steps, totals), the step records and field
+snapshots so far, and the wall time spent. It is a directory beside the case file, ``.NAME.nc.checkpoint/``:
+
+* ``state.npz``: the path state and a JSON header (capslide version, SHA-256 of the configuration, the chunks so far
+  with their SHA-256, the header's own SHA-256);
+* ``records-G-K.npz`` / ``snapshots-G-K.npz``: the records and snapshots added since the previous save, so that a
+  save costs O(new steps); G names the writing process, K counts its saves.
+
+A save writes the new chunks, then the state file atomically; files of other writers are removed once the state no
+longer names them. Reading checks every checksum, the version and the configuration, and loads arrays without
+pickle (nothing in a checkpoint can execute code); any mismatch is a :class:`CheckpointError`, and the caller
+starts afresh. One process writes a checkpoint at a time (an advisory lock); a second run of the same output keeps
+none.
 """
 
 from __future__ import annotations
 
+import fcntl
+import hashlib
 import json
+import shutil
+import uuid
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,11 +38,18 @@ from ..states import Phase
 from ..version import __version__
 from .atomic import replacing
 
-__all__ = ["SavedCase", "CheckpointError", "checkpoint_path", "config_text", "save_checkpoint", "load_checkpoint"]
+__all__ = ["SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
+           "load_checkpoint"]
+
+STATE = "state.npz"
 
 
 class CheckpointError(ValueError):
     """A checkpoint that cannot be used for this run (the message says why)."""
+
+
+class CheckpointBusy(RuntimeError):
+    """Another process is writing this checkpoint."""
 
 
 @dataclass
@@ -53,72 +73,157 @@ def config_text(config) -> str:
     return yaml.safe_dump(dict(config), sort_keys=True)
 
 
-def _loop_meta(loop: Loop | None) -> dict | None:
-    if loop is None:
-        return None
-    return {"value": loop.value, "step": loop.step, "value_prev": loop.value_prev, "smallest": loop.smallest,
-            "cutbacks": loop.cutbacks, "pending": list(loop.pending)}
+def _sha(*arrays: np.ndarray) -> str:
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
 
 
-def save_checkpoint(path: Path, saved: SavedCase, config_yaml: str) -> None:
-    """Write ``saved`` to ``path`` (atomically)."""
-    s = saved.state
-    meta = {"version": __version__, "config_yaml": config_yaml, "leg": s.leg, "loop": _loop_meta(s.loop),
-            "targets": list(s.targets), "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks],
-            "cutbacks": s.cutbacks, "smallest": s.smallest, "elapsed": saved.elapsed, "n_records": len(saved.records),
-            "snapshot_ubar": [sn.ubar for sn in saved.snapshots]}
-    arrays = {"meta": np.array(json.dumps(meta)), "x": s.x}
-    if s.loop is not None:
-        arrays["loop_x"] = s.loop.x
-        if s.loop.x_prev is not None:
-            arrays["loop_x_prev"] = s.loop.x_prev
-    if s.history.anchors is not None:
-        arrays["anchors"] = s.history.anchors
-    for name in RECORD_SCALARS:
-        arrays[f"record_{name}"] = np.array([getattr(r, name) for r in saved.records], dtype=float)
-    for name in RECORD_PROFILES:
-        arrays[f"record_{name}"] = np.array([getattr(r, name) for r in saved.records])
-    if saved.snapshots:
-        arrays["snapshot_u"] = np.stack([sn.u for sn in saved.snapshots])
-        arrays["snapshot_I1"] = np.stack([sn.I1_sigma for sn in saved.snapshots])
+def _write_npz(path: Path, arrays: dict[str, np.ndarray]) -> str:
+    """Write arrays atomically; the SHA-256 of their bytes (in name order)."""
     with replacing(path) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **arrays)
+    return _sha(*(arrays[k] for k in sorted(arrays)))
 
 
-def _records(data, n: int) -> list[StepRecord]:
+def _read_npz(path: Path, sha: str | None = None) -> dict[str, np.ndarray]:
+    with np.load(path, allow_pickle=False) as archive:
+        data = {name: archive[name] for name in archive.files}
+    if sha is not None and _sha(*(data[k] for k in sorted(data))) != sha:
+        raise CheckpointError(f"checkpoint file '{path}' does not match its checksum")
+    return data
+
+
+def _record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
+    out = {name: np.array([getattr(r, name) for r in records], dtype=float) for name in RECORD_SCALARS}
+    out.update({name: np.array([getattr(r, name) for r in records]) for name in RECORD_PROFILES})
+    return out
+
+
+def _records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
     out = []
-    for i in range(n):
-        kw = {name: float(data[f"record_{name}"][i]) for name in RECORD_SCALARS}
+    for i in range(len(data["phase"])):
+        kw = {name: float(data[name][i]) for name in RECORD_SCALARS}
         kw["phase"] = Phase(int(kw["phase"]))
         kw["newton_iterations"] = int(kw["newton_iterations"])
         kw["krylov_iterations"] = int(kw["krylov_iterations"])
-        kw.update({name: data[f"record_{name}"][i] for name in RECORD_PROFILES})
+        kw.update({name: data[name][i] for name in RECORD_PROFILES})
         out.append(StepRecord(**kw))
     return out
 
 
-def load_checkpoint(path: Path, config_yaml: str) -> SavedCase:
+class CheckpointWriter:
+    """Saves a running case into the checkpoint directory ``path``, new records and snapshots only at each save.
+
+    Raises :class:`CheckpointBusy` when another process holds the checkpoint.
+    """
+
+    def __init__(self, path: Path, config_yaml: str):
+        self.path, self.config_sha = Path(path), hashlib.sha256(config_yaml.encode()).hexdigest()
+        if self.path.exists() and not self.path.is_dir():
+            self.path.unlink()  # a stale file where the directory goes
+        self.path.mkdir(parents=True, exist_ok=True)
+        self._lock = open(self.path / "lock", "w")  # noqa: SIM115 (held until the writer is done)
+        try:
+            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            self._lock.close()
+            raise CheckpointBusy(f"another run is writing the checkpoint '{self.path}'") from None
+        self.generation = uuid.uuid4().hex[:8]
+        self.chunks: list[dict] = []
+        self.n_records = self.n_snapshots = 0
+
+    def _chunk(self, kind: str, arrays: dict[str, np.ndarray], count: int) -> None:
+        name = f"{kind}-{self.generation}-{len(self.chunks):04d}.npz"
+        self.chunks.append({"file": name, "kind": kind, "count": count, "sha256": _write_npz(self.path / name, arrays)})
+
+    def save(self, saved: SavedCase) -> None:
+        new_records = saved.records[self.n_records:]
+        if new_records:
+            self._chunk("records", _record_arrays(new_records), len(new_records))
+        new_snaps = saved.snapshots[self.n_snapshots:]
+        if new_snaps:
+            self._chunk("snapshots", {"ubar": np.array([sn.ubar for sn in new_snaps]),
+                                      "u": np.stack([sn.u for sn in new_snaps]),
+                                      "I1_sigma": np.stack([sn.I1_sigma for sn in new_snaps])}, len(new_snaps))
+        self.n_records, self.n_snapshots = len(saved.records), len(saved.snapshots)
+        s = saved.state
+        arrays = {"x": s.x}
+        if s.loop is not None:
+            arrays["loop_x"] = s.loop.x
+            if s.loop.x_prev is not None:
+                arrays["loop_x_prev"] = s.loop.x_prev
+        if s.history.anchors is not None:
+            arrays["anchors"] = s.history.anchors
+        loop = None if s.loop is None else {
+            "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
+            "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
+        header = {"version": __version__, "config_sha256": self.config_sha, "leg": s.leg, "loop": loop,
+                  "targets": list(s.targets), "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks],
+                  "cutbacks": s.cutbacks, "smallest": s.smallest, "elapsed": saved.elapsed, "chunks": self.chunks,
+                  "arrays_sha256": _sha(*(arrays[k] for k in sorted(arrays)))}
+        text = json.dumps(header)
+        arrays.update(header=np.array(text), header_sha256=np.array(hashlib.sha256(text.encode()).hexdigest()))
+        _write_npz(self.path / STATE, arrays)
+        keep = {c["file"] for c in self.chunks} | {STATE, "lock"}
+        for other in self.path.iterdir():
+            if other.name not in keep and not other.name.startswith("."):  # chunks of earlier writers
+                other.unlink(missing_ok=True)
+
+    def __enter__(self) -> CheckpointWriter:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def remove(self) -> None:
+        """Delete the checkpoint (the case file is written) and release it."""
+        shutil.rmtree(self.path, ignore_errors=True)
+        self.close()
+
+    def close(self) -> None:
+        if not self._lock.closed:
+            fcntl.flock(self._lock, fcntl.LOCK_UN)
+            self._lock.close()
+
+
+def _load(path: Path, config_yaml: str) -> SavedCase:
+    if not path.is_dir():
+        raise CheckpointError(f"checkpoint '{path}' is not a checkpoint directory")
+    data = _read_npz(path / STATE)
+    text = str(data["header"])
+    if hashlib.sha256(text.encode()).hexdigest() != str(data["header_sha256"]):
+        raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
+    meta = json.loads(text)
+    if meta.get("version") != __version__:
+        raise CheckpointError(f"checkpoint '{path}' was written by capslide {meta.get('version')}, this is {__version__}")
+    if meta.get("config_sha256") != hashlib.sha256(config_yaml.encode()).hexdigest():
+        raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
+    arrays = {k: v for k, v in data.items() if k not in ("header", "header_sha256")}
+    if _sha(*(arrays[k] for k in sorted(arrays))) != meta["arrays_sha256"]:
+        raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
+    records, snapshots = [], []
+    for chunk in meta["chunks"]:
+        part = _read_npz(path / chunk["file"], chunk["sha256"])
+        if chunk["kind"] == "records":
+            records += _records_of(part)
+        else:
+            snapshots += [Snapshot(float(u), part["u"][k], part["I1_sigma"][k]) for k, u in enumerate(part["ubar"])]
+    lm = meta["loop"]
+    loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
+                                        lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
+    state = PathState(meta["leg"], data["x"], History(data.get("anchors")), loop, list(meta["targets"]),
+                      [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"])
+    return SavedCase(state, records, snapshots, meta["elapsed"])
+
+
+def load_checkpoint(path: str | Path, config_yaml: str) -> SavedCase:
     """Read a checkpoint written for the same configuration and capslide version (CheckpointError otherwise)."""
+    path = Path(path)
     try:
-        with np.load(path, allow_pickle=False) as archive:
-            data = {name: archive[name] for name in archive.files}
-            meta = json.loads(str(data["meta"]))
-            if meta.get("version") != __version__:
-                raise CheckpointError(f"checkpoint '{path}' was written by capslide {meta.get('version')}, "
-                                      f"this is {__version__}")
-            if meta.get("config_yaml") != config_yaml:
-                raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
-            lm = meta["loop"]
-            loop = None if lm is None else Loop(
-                lm["value"], lm["step"], data["loop_x"], data["loop_x_prev"] if "loop_x_prev" in data else None,
-                lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
-            state = PathState(meta["leg"], data["x"], History(data["anchors"] if "anchors" in data else None), loop,
-                              list(meta["targets"]), [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]],
-                              meta["cutbacks"], meta["smallest"])
-            snapshots = [Snapshot(u, data["snapshot_u"][k], data["snapshot_I1"][k])
-                         for k, u in enumerate(meta["snapshot_ubar"])]
-            return SavedCase(state, _records(data, meta["n_records"]), snapshots, meta["elapsed"])
+        return _load(path, config_yaml)
     except CheckpointError:
         raise
-    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile, json.JSONDecodeError) as err:
+    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
         raise CheckpointError(f"cannot read checkpoint '{path}': {err}") from None

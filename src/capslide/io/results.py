@@ -22,8 +22,9 @@ from ..fem.mesh import Mesh
 from ..states import Phase, SlipState, Status, flag_attributes
 from ..version import __version__
 from .atomic import replacing
+from .reading import open_result
 
-__all__ = ["CONVENTIONS", "config_attrs", "write_netcdf", "mesh_dataset", "mesh_from_dataset",
+__all__ = ["CONVENTIONS", "config_attrs", "write_netcdf", "mesh_dataset",
            "case_dataset", "collect", "STEP_VARIABLES", "CASE_SCALARS"]
 
 CONVENTIONS = "CF-1.10"
@@ -87,13 +88,6 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None) -> xr.Data
     else:
         ds.attrs.update({"Conventions": CONVENTIONS, "software_version": __version__})
     return ds
-
-
-def mesh_from_dataset(ds: xr.Dataset) -> Mesh:
-    nodes = np.column_stack([ds["X_node"].values, ds["Y_node"].values])
-    info = {k[5:]: v for k, v in ds.attrs.items() if k.startswith("mesh_")}
-    return Mesh(str(ds.attrs["element"]), nodes, ds["cell_nodes"].values, ds["base_nodes"].values,
-                ds["surface_segment_nodes"].values, info)
 
 
 def _normalized(long_name: str, si_units: str, si_scale: float) -> dict:
@@ -206,8 +200,8 @@ def collect(paths) -> xr.Dataset:
     """
     cases = []
     for path in paths:
-        with xr.open_dataset(path, engine="netcdf4") as ds:
-            cases.append(ds[list(STEP_VARIABLES) + list(CASE_SCALARS)].load().assign_attrs(ds.attrs))
+        ds = open_result(path, "case")
+        cases.append(ds[list(STEP_VARIABLES) + list(CASE_SCALARS)].assign_attrs(ds.attrs))
     n_steps = max(c.sizes["step"] for c in cases)
     data: dict[str, tuple] = {}
     for name in STEP_VARIABLES:

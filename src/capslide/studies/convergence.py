@@ -273,7 +273,7 @@ def read_results(spec: dict, cases_dir: str | Path) -> tuple[list[Run], dict[tup
         path = Path(cases_dir) / key[0] / f"{key[1]}.nc"
         if not path.is_file():
             raise ResultFileError(f"case file '{path}' does not exist (run: snakemake --cores 2 convergence)")
-        ds = open_result(path)
+        ds = open_result(path, "case")
         q = quantities(ds["phase"].values, ds["ubar"].values, ds["Ft"].values, float(ds["peak_Ft"]),
                        float(ds["onset_ubar"]), float(ds["onset_area"]))
         results[key] = RunResult(str(ds.attrs.get("status")), q, float(ds.attrs.get("case_wall_time", np.nan)),

@@ -17,7 +17,7 @@ from typing import Any
 
 import yaml
 
-from ..config import ConfigError, apply_settings, check_schema, load_yaml, merge, schema, validate
+from ..config import ConfigError, apply_settings, check_finite, check_schema, load_yaml, merge, schema, validate
 from . import convergence
 
 __all__ = ["KINDS", "runs", "case_name", "check_runs"]
@@ -87,15 +87,23 @@ def runs(spec: Mapping, kind: str) -> dict[str, dict[str, Any]]:
         raise ValueError(f"unknown kind of study {kind!r} (allowed: {', '.join(KINDS)})")
     if not isinstance(spec, Mapping):
         raise ConfigError(f"a {kind} spec must be a mapping, not {type(spec).__name__}")
-    check_schema(spec, _spec_schema(kind))
+    if kind == "study":  # the 'study' section of a configuration: keys named from the top
+        check_finite({"study": spec})
+        check_schema({"study": spec}, {"type": "object", "properties": {"study": _spec_schema(kind)}})
+    else:
+        check_finite(spec)
+        check_schema(spec, _spec_schema(kind))
     return _EXPANDERS[kind](spec)
 
 
-def check_runs(run_overrides: Mapping[str, Mapping], config_files: Iterable[str | Path], skip: Iterable[str] = ()) -> None:
-    """Validate the configuration of every run (config files, then its overrides); ConfigError naming the run."""
+def check_runs(run_overrides: Mapping[str, Mapping], config_files: Iterable[str | Path], skip: Iterable[str] = (),
+               settings: Mapping[str, Any] | None = None) -> None:
+    """Validate the configuration of every run (config files, ``settings``, then its overrides); ConfigError naming
+    the run."""
     base: dict = {}
     for path in config_files:
         base = merge(base, load_yaml(path))
+    base = apply_settings(base, settings or {})
     skip = set(skip)
     for run, sets in run_overrides.items():
         if run in skip:

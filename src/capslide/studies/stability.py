@@ -28,6 +28,9 @@ import numpy as np
 
 from ..config import ConfigError, load_config
 from ..io.reading import ResultFileError, open_result
+from ..model import cost
+from ..model.build import cap_mesh_spec
+from ..params import Parameters
 from ..states import Phase
 
 __all__ = ["CHECKS", "check", "pull_off_force", "pull_off_preload", "case_arrays", "evaluate", "TABLE_COLUMNS",
@@ -44,13 +47,13 @@ def pull_off_force(phase: np.ndarray, Fn: np.ndarray) -> float:
 
 def pull_off_preload(case_file: str | Path, fraction: float) -> float:
     """``fraction`` of the pull-off force of a case file (rounded to 1e-6: a preload for a config overlay)."""
-    ds = open_result(case_file)
+    ds = open_result(case_file, "case")
     return round(float(fraction) * pull_off_force(ds["phase"].values, ds["Fn"].values), 6)
 
 
 def case_arrays(path: str | Path) -> dict:
     """Step arrays and attributes of a case file that the checks use."""
-    ds = open_result(path)
+    ds = open_result(path, "case")
     a = {k: ds[k].values for k in ("phase", "ubar", "Fn", "Ft", "area", "base_force_x", "base_force_y",
                                    "newton_iterations", "krylov_iterations")}
     at = ds.attrs
@@ -74,8 +77,9 @@ def evaluate(spec: dict, runs: dict[str, dict], config_files: Iterable[str | Pat
         row = {"case": name, "what": case.get("what", ""), "expected": case["expect"], "time_bound_s": bound,
                "check": case.get("check", "none")}
         if case["expect"] == "rejected":
-            try:
-                load_config(config_files, settings=runs[name])
+            try:  # what `capslide run` refuses before computing: the configuration and its cost
+                params = Parameters.from_config(load_config(config_files, settings=runs[name]))
+                cost.check(params, cap_mesh_spec(params))
                 row.update(status="accepted", passed=False)
             except ConfigError as err:
                 row.update(status="rejected", check="config_error", check_value=str(err).split(":")[0], passed=True)

@@ -31,10 +31,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..io.reading import ResultFileError
 from ..laws import analytic
 from ..loadpath.cap import load_path, spread_constraint, spread_control
 from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
 from ..loadpath.measures import StepRecord, measure
+from ..model import cost
 from ..model.build import build_model, cap_mesh_spec
 from ..model.constraints import FixedEdgeGap, FixedForce
 from ..model.system import CapModel, History
@@ -76,6 +78,7 @@ def pressure_error(rec: StepRecord, P: float, R: float, E_star: float) -> float:
 
 def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
     """Run the scene's load sweep and compare with the closed forms."""
+    cost.check(params, cap_mesh_spec(params))
     model = build_model(params)
     a, L, g = params.adhesion, params.loading, params.geometry
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
@@ -266,11 +269,18 @@ def table_rows(rows: list[VerificationRow]) -> list[dict]:
 
 
 def read_tables(paths) -> list[dict]:
-    """The rows of verification CSV tables (``capslide verify``), in order."""
+    """The rows of verification CSV tables (``capslide verify``), in order; ResultFileError for anything else."""
     import csv
 
     rows = []
     for path in paths:
-        with open(path, newline="") as fh:
-            rows += list(csv.DictReader(fh))
+        try:
+            with open(path, newline="", encoding="utf-8") as fh:
+                reader = csv.DictReader(fh)
+                part = list(reader)
+        except (OSError, UnicodeDecodeError, csv.Error) as err:
+            raise ResultFileError(f"cannot read table '{path}': {err}") from None
+        if reader.fieldnames != TABLE_COLUMNS:
+            raise ResultFileError(f"'{path}' is not a verification table (columns {', '.join(TABLE_COLUMNS)})")
+        rows += part
     return rows
