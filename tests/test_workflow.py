@@ -5,6 +5,8 @@ import re
 import subprocess
 import warnings
 
+import pytest
+
 from conftest import SNAKEMAKE, default_sigint, snakemake
 
 
@@ -42,21 +44,17 @@ def test_model_figures_render(workdir):
     assert (workdir / "results" / "benchmarks" / "figures" / "Tn.tsv").exists()
 
 
-def test_bad_config_is_one_clear_line(workdir):
-    bad = workdir / "bad.yaml"
-    bad.write_text("friction:\n  s_cut: 2\n")
+@pytest.mark.parametrize("overlay, message", [
+    ("friction:\n  s_cut: 2\n", "config error: friction.s_cut = 2 is not allowed: must be number >= 0 and <= 1"),
+    ("study:\n  models:\n    DI: {friction.modle: DI}\n", "config: run DI_Fn-0.288: unknown key 'friction.modle'"),
+], ids=["value", "study model"])
+def test_a_bad_config_is_one_clear_line_when_the_workflow_is_parsed(workdir, overlay, message):
+    (workdir / "bad.yaml").write_text(overlay)
     res = snakemake(workdir, "-n", "--configfile", "config/config.yaml", "bad.yaml")
-    assert res.returncode != 0
-    assert "config error: friction.s_cut = 2 is not allowed: must be number >= 0 and <= 1" in res.stdout + res.stderr
+    assert res.returncode != 0 and message in res.stdout + res.stderr
 
 
-def test_bad_runs_are_refused_when_the_workflow_is_parsed(workdir):
-    """A bad key in study.models, or in a study spec, stops a dry run with one line naming the run."""
-    bad = workdir / "bad.yaml"
-    bad.write_text("study:\n  models:\n    DI: {friction.modle: DI}\n")
-    res = snakemake(workdir, "-n", "--configfile", "config/config.yaml", "bad.yaml")
-    assert res.returncode != 0
-    assert "config: run DI_Fn-0.288: unknown key 'friction.modle'" in res.stdout + res.stderr
+def test_a_bad_study_spec_is_refused_when_the_workflow_is_parsed(workdir):
     spec = workdir / "config" / "convergence.yaml"
     spec.write_text(spec.read_text().replace("eps_t: {key: friction.eps_t", "eps_t: {key: friction.eps_tt"))
     res = snakemake(workdir, "-n")
