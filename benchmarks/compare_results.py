@@ -2,7 +2,9 @@
 
 Every variable (step variables, surface profiles, snapshots, case scalars) is compared except wall times; the
 report gives, per file, the largest difference of any variable relative to that variable's largest magnitude,
-and checks step counts, statuses, status reasons, cut-backs and the smallest step.
+and checks step counts, statuses, status reasons, cut-backs and the smallest step. Files of the layout before
+docs/data.md (names X_surface, x_surface, y_surface; a flat ``case`` dimension in the collected file) are read into
+the same per-case arrays as files of the current layout, so a change of layout can be checked too.
 
     .venv/bin/python benchmarks/compare_results.py /tmp/before /tmp/after [--rtol 1e-12]
 
@@ -18,12 +20,36 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-SKIP = {"wall_time"}
+SKIP = {"wall_time", "step", "case_file", "config_yaml", "model", "preload", "friction_model", "s_cut", "case",
+        "slide_end", "n_steps"}
 ATTRS = ("status", "status_reason", "cutbacks", "min_step")
+RENAMED = {"X_surface": "X_reference", "x_surface": "x_current", "y_surface": "y_current"}
 
 
-def _values(ds: xr.Dataset, name: str) -> np.ndarray:
-    return np.asarray(ds[name].values)
+def _arrays(ds: xr.Dataset) -> dict:
+    """Every compared variable as {key: array}: by name in a case file, by (model, preload, name) in a collected
+    file, its steps trimmed to the case's own."""
+    if "case" in ds.dims:  # the collected file before docs/data.md
+        out = {}
+        for i in range(ds.sizes["case"]):
+            model, n = Path(str(ds["case_file"].values[i])).stem.split("_Fn")[0], int(ds["n_steps"].values[i])
+            for name, var in ds.variables.items():
+                if name not in SKIP and "case" in var.dims:
+                    out[(model, float(ds["preload"].values[i]), name)] = var.values[i, :n] if var.ndim > 1 else var.values[i]
+        return out
+    if "model" in ds.dims:
+        out = {}
+        for m in ds["model"].values:
+            for f in ds["preload"].values:
+                case = ds.sel(model=m, preload=f)
+                if int(case["status"]) < 0:
+                    continue
+                n = int(case["n_steps"])
+                for name, var in case.variables.items():
+                    if name not in SKIP and var.dims in ((), ("step",)):
+                        out[(str(m), float(f), name)] = var.values[:n] if var.ndim else var.values
+        return out
+    return {RENAMED.get(name, name): np.asarray(var.values) for name, var in ds.variables.items() if name not in SKIP}
 
 
 def compare_files(a: Path, b: Path) -> tuple[float, list[str]]:
@@ -31,18 +57,18 @@ def compare_files(a: Path, b: Path) -> tuple[float, list[str]]:
     problems: list[str] = []
     worst = 0.0
     with xr.open_dataset(a) as da, xr.open_dataset(b) as db:
-        if dict(da.sizes) != dict(db.sizes):
-            problems.append(f"sizes {dict(da.sizes)} != {dict(db.sizes)}")
+        if da.sizes.get("step") != db.sizes.get("step"):
+            problems.append(f"steps {da.sizes.get('step')} != {db.sizes.get('step')}")
             return np.inf, problems
         for key in ATTRS:
             if key in da.attrs and str(da.attrs[key]) != str(db.attrs.get(key)):
                 problems.append(f"attribute {key}: {da.attrs[key]!r} != {db.attrs.get(key)!r}")
-        names = [n for n in da.variables if n not in SKIP]
-        for name in names:
-            if name not in db.variables:
+        va, vb = _arrays(da), _arrays(db)
+        for name in va:
+            if name not in vb:
                 problems.append(f"variable {name} missing")
                 continue
-            x, y = _values(da, name), _values(db, name)
+            x, y = va[name], vb[name]
             if x.dtype.kind in "OUS":
                 if not np.array_equal(x, y):
                     problems.append(f"{name} differs")

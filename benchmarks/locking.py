@@ -30,7 +30,7 @@ VARIANTS = {"fast (Q1, 32)": ("Q1", 32, 0.25), "paper (Q2, 16)": ("Q2", 16, 0.25
 def zero_load_area(element: str, size: float, bulk: float, nu: float) -> tuple[float, float]:
     """Contact area at Fn* = 0 (L0) and wall time (s)."""
     sets = [f"mesh.element={element}", f"mesh.size={size}", f"mesh.max_size_over_H={bulk}", f"material.nu={nu}",
-            "limits.max_steps=100000", "limits.max_dofs=1e7"]
+            "limits.max_steps=100000", "limits.max_dofs=1e7", "limits.refuse_locking=false"]
     model = build_model(Parameters.from_config(load_config([CONFIG], sets)))
     records = []
     t0 = time.perf_counter()

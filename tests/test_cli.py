@@ -161,3 +161,10 @@ def test_verify_that_finds_no_equilibrium_stops_with_one_line(run, tmp_path):
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "verification of scene hertz stopped: approach: more than 3 cut-backs" in lines[0]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_closed_pipe_ends_quietly():
+    """capslide constants | head -c 0: the reader is gone before capslide writes; no traceback, exit 141."""
+    res = subprocess.run(f"{sys.executable} -m capslide constants {PAPER_CONFIG} | head -c 0; echo ${{PIPESTATUS[0]}} >&2",
+                         shell=True, executable="/bin/bash", capture_output=True, text=True)
+    assert res.stderr.strip() == "141", res.stderr

@@ -23,7 +23,7 @@ LAYERS = [
     ("driver",),  # a case observed
     ("studies",),  # verification, stability, convergence, study expansion
     ("figures",),  # matplotlib
-    ("cli", "__main__", "__init__"),  # the command line and the package's front
+    ("cli", "api", "__main__", "__init__"),  # the command line, the Python interface and the package front
 ]
 NUMERICS = ("laws", "fem", "solvers", "model", "loadpath")
 

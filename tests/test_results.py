@@ -1,4 +1,5 @@
-"""Result files: mesh round trip, CF attributes, atomic writes."""
+"""Result files: mesh round trip, the layout of case files and of the collected cube (docs/data.md), CF attributes
+and units, atomic writes."""
 
 import subprocess
 import sys
@@ -10,6 +11,7 @@ from capslide.fem.mesh import CapMeshSpec, cap_mesh
 from capslide.io.reading import read_mesh
 from capslide.io.results import mesh_dataset, write_netcdf
 
+from cf_checks import check_cf
 from conftest import PAPER_CONFIG
 
 
@@ -23,11 +25,9 @@ def test_mesh_round_trip(tmp_path, paper_config):
     np.testing.assert_array_equal(back.surface_segments, mesh.surface_segments)
     np.testing.assert_array_equal(back.base, mesh.base)
     with xr.open_dataset(path) as ds:
-        for name, var in ds.variables.items():
-            assert "units" in var.attrs and "long_name" in var.attrs, name
-        assert ds.attrs["Conventions"].startswith("CF-")
-        assert ds.attrs["material.E"] == 2e6 and ds.attrs["mesh.band_half_width"] == "null"
-        assert "friction:" in ds.attrs["config_yaml"]
+        check_cf(ds, "mesh")
+        assert ds.attrs["material_E"] == 2e6 and ds.attrs["mesh_band_half_width"] == "null"
+        assert "friction:" in ds.attrs["config_yaml"] and ds["X_node"].attrs["units"] == "1e-06 m"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.nc"]  # no temporary left
 
 
@@ -47,48 +47,48 @@ def test_mesh_cli_and_figure(tmp_path):
     assert res.returncode == 2 and "--input" in res.stderr
 
 
-def test_case_files_and_collect(tmp_path, paper_config, capsys):
-    import warnings
-
+def test_case_files_and_the_collected_cube(tmp_path, paper_config, capsys):
+    """Case files with coordinates where a user plots against them; the collected file a model x preload x step cube
+    that selects by name; both CF-valid with units UDUNITS converts."""
+    from capslide.cli import main
     from capslide.config import apply_overrides, validate
     from capslide.driver.case import run_case
-    from capslide.io.results import case_dataset, collect
+    from capslide.io.cube import collect
+    from capslide.io.results import case_dataset
     from capslide.params import Parameters
 
     paths = []
-    for sets in (["friction.model=DI", "loading.ubar_max=0.3"], ["friction.model=EA", "friction.s_cut=0", "loading.ubar_max=0.6",
-                                                                   "loading.preload=-0.1"]):
+    for name, sets in (("DI_Fn+0.000", ["friction.model=DI", "loading.ubar_max=0.3"]),
+                       ("EA0_Fn-0.100", ["friction.model=EA", "friction.s_cut=0", "loading.ubar_max=0.6",
+                                         "loading.preload=-0.1"])):
         cfg = validate(apply_overrides(paper_config, ["mesh.size=32", "output.snapshot_ubar=[0, 0.3]", *sets]))
         res = run_case(Parameters.from_config(cfg))
-        paths.append(write_netcdf(case_dataset(res), tmp_path / f"{len(paths)}.nc"))
+        paths.append(write_netcdf(case_dataset(res), tmp_path / f"{name}.nc"))
     out = write_netcdf(collect(paths), tmp_path / "cases.nc")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        for path in [*paths, out]:
-            with xr.open_dataset(path) as ds:
-                for name, var in ds.variables.items():
-                    assert "units" in var.attrs and "long_name" in var.attrs, (path, name)
-                for name in ("phase", "slip_state", "status"):
-                    if name in ds:
-                        assert "flag_values" in ds[name].attrs and "flag_meanings" in ds[name].attrs
-                assert ds.attrs["Conventions"].startswith("CF-") and "software_version" in ds.attrs
-                assert "config_yaml" in ds.attrs
-    with xr.open_dataset(paths[0]) as c0, xr.open_dataset(out) as ds:
-        assert c0.attrs["status"] == "completed"
-        np.testing.assert_allclose(c0["snapshot_ubar"], [0.0, 0.3])
-        assert c0["u_node"].shape == (2, c0.sizes["node"]) and c0["I1_sigma"].shape == (2, c0.sizes["cell"])
-        assert ds.sizes["case"] == 2
-        assert list(ds["model"].values) == ["DI", "EA"] and np.isnan(ds["s_cut"][0]) and ds["s_cut"][1] == 0
-        np.testing.assert_allclose(ds["preload"], [0.0, -0.1])
-        n0 = int(ds["n_steps"][0])
-        np.testing.assert_allclose(ds["Ft"][0, :n0], c0["Ft"])
-        if n0 < ds.sizes["step"]:
-            assert np.isnan(ds["Ft"][0, n0:]).all()  # padded
-        assert list(ds["status"].values) == [0, 0]
+    with xr.open_dataset(paths[0]) as case, xr.open_dataset(out) as cube:
+        check_cf(case, "case")
+        check_cf(cube, "cube")
+        assert case.attrs["status"] == "completed" and case.attrs["friction_model"] == "DI"
+        assert {"ubar", "h", "phase", "X_reference", "X_node", "Y_node", "snapshot_ubar"} <= set(case.coords)
+        case.Ft.plot(x="ubar")  # the README's first example
+        np.testing.assert_allclose(case["snapshot_ubar"], [0.0, 0.3])
+        assert case.u_node.sel(snapshot_ubar=0.3).shape == (case.sizes["node"],)
+        assert case["I1_sigma"].dims == ("snapshot_ubar", "cell")
+        assert case["Ft"].attrs["units"] == "2 N/m" and case["gap"].attrs["units"] == "1e-06 m"
+        assert cube.sizes == {"model": 2, "preload": 2, "step": max(xr.open_dataset(p).sizes["step"] for p in paths)}
+        assert list(cube["model"].values) == ["DI", "EA0"] and list(cube["preload"].values) == [-0.1, 0.0]
+        assert list(cube["friction_model"].values) == ["DI", "EA"]
+        assert np.isnan(float(cube["s_cut"].sel(model="DI"))) and float(cube["s_cut"].sel(model="EA0")) == 0.0
+        di = cube.sel(model="DI", preload=0.0)
+        n = int(di["n_steps"])
+        np.testing.assert_array_equal(di["Ft"].values[:n], case["Ft"].values)
+        np.testing.assert_array_equal(di["ubar"].values[:n], case["ubar"].values)
+        assert np.isnan(di["Ft"].values[n:]).all()  # padded
+        assert np.isnan(float(cube["peak_Ft"].sel(model="DI", preload=-0.1)))  # no such case
+        assert int(cube["status"].sel(model="DI", preload=-0.1)) == -1 and int(cube["status"].sel(model="DI", preload=0.0)) == 0
+        assert cube.peak_Ft.to_pandas().shape == (2, 2)
     # inspect reads all three kinds of files capslide writes
-    from capslide.cli import main
-
-    for path, first_words in ((out, "case "), (paths[0], "status ")):
+    for path, first_words in ((out, "model "), (paths[0], "status ")):
         capsys.readouterr()
         assert main(["inspect", str(path)]) == 0
         assert capsys.readouterr().out.startswith(first_words)

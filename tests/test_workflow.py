@@ -7,7 +7,8 @@ import warnings
 
 import pytest
 
-from conftest import SNAKEMAKE, default_sigint, snakemake
+from cf_checks import check_cf
+from conftest import ROOT, SNAKEMAKE, default_sigint, snakemake
 
 
 def test_dry_run_is_clean(workdir):
@@ -82,17 +83,19 @@ def test_smoke_workflow_end_to_end(workdir):
     cases = sorted((results / "cases").glob("*.nc"))
     assert [p.name for p in cases] == ["DI_Fn+0.000.nc", "EA0_Fn+0.000.nc", "EA1_Fn+0.000.nc"]
     with xr.open_dataset(results / "cases.nc") as ds:
-        assert ds.sizes["case"] == 3 and set(ds["model"].values) == {"DI", "EA"}
+        assert list(ds["model"].values) == ["DI", "EA1", "EA0"] and list(ds["preload"].values) == [0.0]
         assert (ds["status"].values == 0).all()
-    for path in [results / "cases.nc", *cases]:
+        ds.sel(model="DI", preload=0.0).Ft.plot(x="ubar")
+    # every file the workflow writes: CF attributes, units that UDUNITS converts to the physical unit
+    written = [*results.rglob("*.nc")]
+    assert len(written) == 5  # three cases, the collected file, the mesh
+    for path in written:
         with warnings.catch_warnings():
             warnings.simplefilter("error")  # opening must not warn
             with xr.open_dataset(path) as ds:
-                assert {"Conventions", "software_version", "config_yaml"} <= set(ds.attrs), path.name
-                for name, var in ds.variables.items():
-                    assert "units" in var.attrs and "long_name" in var.attrs, (path.name, name)
-                    if "flag_values" in var.attrs:
-                        assert len(var.attrs["flag_meanings"].split()) == len(var.attrs["flag_values"]), name
+                assert "software_version" in ds.attrs and "config_yaml" in {*ds.attrs, *ds.variables}, path.name
+                check_cf(ds, path.name)
+    run_documented_examples(workdir)
     for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc",
                  "cap_Aczoom", "cap_xn"):
         for ext in ("pdf", "png"):
@@ -134,6 +137,23 @@ def test_smoke_workflow_end_to_end(workdir):
     assert "resuming from" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()
     with xr.open_dataset(results / "cases" / "EA0_Fn+0.000.nc") as ds:
         assert ds.attrs["status"] == "completed"
+
+
+def run_documented_examples(workdir):
+    """Every Python example of README.md and docs/data.md, run where the smoke study's results are."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    blocks = [block.split("```", 1)[0] for doc in ("README.md", "docs/data.md")
+              for block in (ROOT / doc).read_text().split("```python\n")[1:]]
+    assert len(blocks) >= 5
+    cwd = os.getcwd()
+    os.chdir(workdir)
+    try:
+        for block in blocks:
+            exec(compile(block, "example", "exec"), {})  # noqa: S102 (the project's own documentation)
+    finally:
+        os.chdir(cwd)
 
 
 def _job_counts(dry_run_output: str) -> dict[str, int]:

@@ -237,8 +237,26 @@ def _fill_defaults(config: dict, spec: Mapping) -> None:
             _fill_defaults(config[name], sub)
 
 
+# Largest Poisson's ratio at which each displacement element is free of volumetric locking, measured with
+# benchmarks/locking.py (docs/stability.md): the zero-load contact area of the paper's cap at the element's preset
+# (Q1: fast, Q2: paper) against a converged reference, within the preset's error budget (5 %, 1 %).
+# Q1: -3.8 % at nu = 0.45, -6.9 % at 0.48, -10.4 % at 0.49. Q2: -0.11 % at 0.48, -0.16 % at 0.49.
+LOCKING_NU = {"Q1": 0.45, "Q2": 0.49}
+
+
+def _check_locking(config: Mapping) -> None:
+    nu, element = config["material"]["nu"], config["mesh"]["element"]
+    if nu > LOCKING_NU[element] and config["limits"]["refuse_locking"]:
+        other = "Q2" if element == "Q1" else None
+        advice = (f"use mesh.element = Q2 (free of locking up to nu = {LOCKING_NU['Q2']}) or nu <= {LOCKING_NU[element]}"
+                  if other else f"use nu <= {LOCKING_NU[element]} (no element computes closer to 0.5 yet)")
+        raise ConfigError(f"material.nu = {nu!r} is not allowed with mesh.element = {element}: the element locks beyond "
+                          f"nu = {LOCKING_NU[element]} (benchmarks/locking.py); {advice} (limits.refuse_locking)")
+
+
 def _check_consistency(config: Mapping) -> None:
     """Cross-key rules the schema cannot express."""
+    _check_locking(config)
     g_reg_limit = 3.0 ** (1.0 / 6.0)  # g_max / g_eq: beyond it Tn'(g_reg) > 0 and the law never repels
     g_reg = config["adhesion"]["g_reg_over_g_eq"]
     if g_reg >= g_reg_limit:

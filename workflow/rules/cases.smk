@@ -1,7 +1,7 @@
 # The study's cases: one netCDF file per (model, preload), from config["study"] (capslide.studies.expansion).
 STUDY = config["study"]
 CASES = expand_study(STUDY, "study", "config")  # case name -> overrides
-CASE_FILES = expand("results/cases/{case}.nc", case=sorted(CASES))
+CASE_FILES = expand("results/cases/{case}.nc", case=list(CASES))  # study order: the cube's model order
 
 
 rule run_case:

@@ -7,6 +7,7 @@ nothing is written before the input is known to be good.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 from collections.abc import Sequence
@@ -32,7 +33,9 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="capslide", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="capslide", description="capslide: finite element simulations of a soft adhesive cap sliding "
+                     "on a rigid substrate (Mergel et al. 2019). Exit codes: 0 done, 2 bad input, 3 contact detached, "
+                     "4 no equilibrium found, 130 interrupted.")
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -52,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="run one case (mesh, approach, preload, slide), write its netCDF file")
     add_config_args(p)
-    p.add_argument("-o", "--output", required=True, metavar="CASE.nc")
+    p.add_argument("-o", "--output", required=True, metavar="CASE.nc", help="the case file to write (netCDF)")
     p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
     p.add_argument("--resume", action="store_true",
                    help="continue from the checkpoint a killed run left beside CASE.nc (output.checkpoint_every)")
@@ -61,13 +64,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
     add_config_args(p)
     p.add_argument("--scene", required=True, help="scene name written into the table (hertz, jkr)")
-    p.add_argument("-o", "--output", required=True, metavar="TABLE.csv")
+    p.add_argument("-o", "--output", required=True, metavar="TABLE.csv", help="the table of FE against closed forms")
     p.add_argument("-q", "--quiet", action="store_true")
     p.set_defaults(func=cmd_verify)
 
     p = sub.add_parser("collect", help="stack case files into one dataset over a case dimension")
     p.add_argument("files", nargs="+", metavar="CASE.nc")
-    p.add_argument("-o", "--output", required=True, metavar="CASES.nc")
+    p.add_argument("-o", "--output", required=True, metavar="CASES.nc", help="the collected file to write (netCDF)")
     p.set_defaults(func=cmd_collect)
 
     p = sub.add_parser("inspect", help="print parameters, status and case scalars of a case file")
@@ -84,7 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("pull-off", help="write a config overlay: loading.preload = a fraction of a case's pull-off force")
     p.add_argument("file", metavar="CASE.nc", help="a case that ended detached in its preload (the pull-off force)")
     p.add_argument("--fraction", type=float, required=True, help="fraction of the pull-off force, in (0, 1]")
-    p.add_argument("-o", "--output", required=True, metavar="OVERLAY.yaml")
+    p.add_argument("-o", "--output", required=True, metavar="OVERLAY.yaml", help="the config overlay to write")
     p.set_defaults(func=cmd_pull_off)
 
     p = sub.add_parser("convergence", help="evaluate a convergence study: table (.csv/.md), error-vs-time figure (.pdf/.png)")
@@ -103,7 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("mesh", help="build the cap mesh of a configuration, write it as netCDF")
     add_config_args(p)
-    p.add_argument("-o", "--output", required=True, metavar="MESH.nc")
+    p.add_argument("-o", "--output", required=True, metavar="MESH.nc", help="the mesh file to write (netCDF)")
     p.set_defaults(func=cmd_mesh)
     return parser
 
@@ -121,10 +124,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, _terminate)
     signal.signal(signal.SIGHUP, _terminate)
     try:
-        return args.func(args)
+        code = args.func(args)
+        sys.stdout.flush()  # here, where a closed pipe can be handled, not at exit
+        return code
     except (ConfigError, InputError, ResultFileError) as err:
         print(f"capslide: error: {err}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:  # Ctrl-C or a scheduler's SIGINT: results are written atomically, nothing partial remains
         print("capslide: interrupted; no output written", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:  # the reader of standard output went away (capslide ... | head): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + signal.SIGPIPE

@@ -10,39 +10,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..driver.observers import AfterSteps, Observer
+from ..driver.observers import AfterSteps
 from ..io.reading import kind_of, open_result
-from .common import EXIT_STATUS, InputError, check_outputs, parameters
+from .common import EXIT_STATUS, InputError, check_outputs, command_line, parameters
+from .progress import ProgressDisplay
 
-__all__ = ["ProgressPrinter", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
+__all__ = ["cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
            "cmd_vtk"]
 
 # Test hook: after this many converged steps, capslide run sends SIGINT (or the signal named by
 # CAPSLIDE_INTERRUPT_SIGNAL, e.g. HUP) to its own process group, as Ctrl-C does.
 INTERRUPT_AFTER_STEP = "CAPSLIDE_INTERRUPT_AFTER_STEP"
 INTERRUPT_SIGNAL = "CAPSLIDE_INTERRUPT_SIGNAL"
-
-
-class ProgressPrinter(Observer):
-    """One log line per step, or a self-updating line on a terminal; also callable on a step record."""
-
-    def __init__(self, stream=None):
-        self.stream = stream or sys.stderr
-        self.tty = self.stream.isatty()
-
-    def __call__(self, rec) -> None:
-        line = (f"{rec.phase.label:8s} ubar={rec.ubar:7.4f} h={rec.h:9.5f} Fn={rec.Fn:+.5f} Ft={rec.Ft:+.5f} "
-                f"area={rec.area:8.4f} stick={rec.area_stick:8.4f} newton={rec.newton_iterations:2d} "
-                f"krylov={rec.krylov_iterations:4d} t={rec.wall_time:6.2f}s")
-        self.stream.write(("\r" + line) if self.tty else line + "\n")
-        self.stream.flush()
-
-    def step(self, step):
-        self(step.record)
-
-    def close(self) -> None:
-        if self.tty:
-            self.stream.write("\n")
 
 
 def cmd_constants(args) -> int:
@@ -63,7 +42,7 @@ def cmd_mesh(args) -> int:
     spec = cap_mesh_spec(params)
     cost.check(params, spec, steps=False)
     mesh = cap_mesh(spec)
-    write_netcdf(mesh_dataset(mesh, params.config), output)
+    write_netcdf(mesh_dataset(mesh, params.config, history=command_line()), output)
     print(f"{output}: {mesh.n_cells} {mesh.element} cells, {mesh.n_nodes} nodes, {mesh.n_dofs} DOF, "
           f"{len(mesh.surface_segments)} surface segments")
     return 0
@@ -96,16 +75,16 @@ def cmd_run(args) -> int:
             writer = CheckpointWriter(path, text)
         except CheckpointBusy as err:
             print(f"capslide: {err}; this run keeps no checkpoint", file=sys.stderr)
-    observers = [] if args.quiet else [ProgressPrinter()]
+    observers = [] if args.quiet else [ProgressDisplay(params.loading)]
     if os.environ.get(INTERRUPT_AFTER_STEP):
         signum = signal.Signals[f"SIG{os.environ.get(INTERRUPT_SIGNAL, 'INT')}"]
         interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)
         observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), interrupt))
     result = run_case(params, observers=observers, checkpoint=writer, resume=saved)
     for obs in observers:
-        if isinstance(obs, ProgressPrinter):
+        if isinstance(obs, ProgressDisplay):
             obs.close()
-    write_netcdf(case_dataset(result), output)
+    write_netcdf(case_dataset(result, history=command_line()), output)
     if writer is not None:
         writer.remove()
     s = result.scalars
@@ -117,7 +96,8 @@ def cmd_run(args) -> int:
 
 def cmd_collect(args) -> int:
     """Stack case files into one dataset over a case dimension."""
-    from ..io.results import collect, write_netcdf
+    from ..io.cube import collect
+    from ..io.results import write_netcdf
 
     (output,) = check_outputs([args.output], {"nc"})
     for f in map(Path, args.files):
@@ -125,23 +105,28 @@ def cmd_collect(args) -> int:
             raise InputError(f"case file '{f}' is a directory")
         if not f.is_file():
             raise InputError(f"case file '{f}' does not exist")
-    ds = collect(args.files)
+    ds = collect(args.files, history=command_line())
     write_netcdf(ds, output)
-    print(f"{output}: {ds.sizes['case']} cases, up to {ds.sizes['step']} steps")
+    print(f"{output}: {ds.attrs['n_cases']} cases ({ds.sizes['model']} models x {ds.sizes['preload']} preloads), "
+          f"up to {ds.sizes['step']} steps")
     return 0
 
 
 def _inspect_cases(ds) -> None:
-    """One line per case of a collected file."""
-    print(f"{'case':<16} {'status':<10} {'peak_Ft':>10} {'onset_ubar':>11} {'onset_Ft':>10} {'onset_area':>11}  steps")
-    names = [str(v) for v in ds["case_file"].values] if "case_file" in ds else [str(i) for i in range(ds.sizes["case"])]
+    """One line per case of a collected file (model x preload)."""
+    print(f"{'model':<8} {'preload':>8} {'status':<10} {'peak_Ft':>10} {'onset_ubar':>11} {'onset_Ft':>10} "
+          f"{'onset_area':>11} {'steps':>6}")
     labels = str(ds["status"].attrs.get("flag_meanings", "")).split()
-    for i, name in enumerate(names):
-        status = int(ds["status"].values[i])
-        print(f"{Path(name).stem:<16} {labels[status] if status < len(labels) else status:<10} "
-              + " ".join(f"{float(ds[q].values[i]):>{w}.6g}" for q, w in (("peak_Ft", 10), ("onset_ubar", 11),
-                                                                           ("onset_Ft", 10), ("onset_area", 11)))
-              + f"  {int(ds['n_steps'].values[i]) if 'n_steps' in ds else ''}")
+    for m in ds["model"].values:
+        for f in ds["preload"].values:
+            case = ds.sel(model=m, preload=f)
+            status = int(case["status"])
+            if status < 0:
+                continue
+            print(f"{str(m):<8} {float(f):>+8.3f} {labels[status]:<10} "
+                  + " ".join(f"{float(case[q]):>{w}.6g}" for q, w in (("peak_Ft", 10), ("onset_ubar", 11),
+                                                                       ("onset_Ft", 10), ("onset_area", 11)))
+                  + f" {int(case['n_steps']):>6}")
 
 
 def cmd_inspect(args) -> int:
@@ -158,8 +143,8 @@ def cmd_inspect(args) -> int:
               f"{int(ds.attrs['n_dofs'])} DOF")
         return 0
     rows = [("status", ds.attrs.get("status", "?")), ("status_reason", ds.attrs.get("status_reason", ""))]
-    for key in ("friction.model", "friction.s_cut", "loading.preload", "mesh.element", "mesh.size", "n_dofs",
-                "cutbacks", "min_step", "case_wall_time"):
+    for key in ("friction_model", "friction_s_cut", "loading_preload", "mesh_element", "mesh_size", "n_dofs",
+                "cutbacks", "min_step", "case_wall_time", "software_version"):
         if key in ds.attrs:
             rows.append((key, ds.attrs[key]))
     for name in ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area"):
@@ -178,8 +163,8 @@ def cmd_vtk(args) -> int:
     from ..io.vtk import write_snapshot_series
 
     case = open_result(args.file, "case")
-    if case.sizes.get("snapshot", 0) == 0:
-        raise InputError(f"'{args.file}' holds no field snapshots (snapshot dimension is empty)")
+    if case.sizes.get("snapshot_ubar", 0) == 0:
+        raise InputError(f"'{args.file}' holds no field snapshots (output.snapshot_ubar)")
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"output '{out}' exists and is not a directory")
@@ -191,5 +176,5 @@ def cmd_vtk(args) -> int:
     nodes = np.column_stack([case["X_node"].values, case["Y_node"].values])
     pvd = write_snapshot_series(out, stem, nodes, case["cell_nodes"].values, case["snapshot_ubar"].values,
                                 case["u_node"].values, case["v_node"].values, case["I1_sigma"].values)
-    print(f"{pvd}: {case.sizes['snapshot']} snapshots (time = ubar / L0)")
+    print(f"{pvd}: {case.sizes['snapshot_ubar']} snapshots (time = ubar / L0)")
     return 0

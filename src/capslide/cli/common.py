@@ -14,7 +14,7 @@ from ..io.atomic import replacing
 from ..params import Parameters
 from ..states import Status
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_STATUS", "InputError", "add_config_args", "parameters",
+__all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_STATUS", "InputError", "add_config_args", "command_line", "parameters",
            "check_outputs", "write_text_atomic", "csv_text"]
 
 EXIT_BAD_INPUT = 2
@@ -30,6 +30,15 @@ def add_config_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("configs", nargs="+", metavar="CONFIG", help="YAML config file(s), later ones update earlier ones")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a config value by its dotted key, e.g. --set friction.s_cut=0 (repeatable)")
+
+
+def command_line() -> str:
+    """This program's command line, for the ``history`` of the files it writes."""
+    import shlex
+    import sys
+
+    return shlex.join(["capslide", *sys.argv[1:]]) if Path(sys.argv[0]).name in ("capslide", "__main__.py") else \
+        f"capslide (called from {Path(sys.argv[0]).name})"
 
 
 def parameters(args) -> Parameters:

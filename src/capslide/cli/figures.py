@@ -15,6 +15,15 @@ FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_
                "--input CASE.nc, verification from --table FILE.csv")
 
 
+def _tau_DI(cases) -> float | None:
+    """tau_DI / E of the DI model of a collected file (mu_DI T_max / E), None without a DI model."""
+    if "friction_model" not in cases.coords or "DI" not in set(map(str, cases["friction_model"].values)):
+        return None
+    mu = (float(cases["mu_DI"].where(cases["friction_model"] == "DI", drop=True)[0]) if "mu_DI" in cases.coords
+          else float(cases.attrs["friction_mu_DI"]))
+    return mu * float(cases.attrs["adhesion_T_max"]) / float(cases.attrs["material_E"])
+
+
 def cmd_figure(args) -> int:
     """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
     from .. import figures  # matplotlib only when a figure is drawn
@@ -32,14 +41,13 @@ def cmd_figure(args) -> int:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
         cases = open_result(args.input, "cases")
-        tau = float(cases.attrs["friction.mu_DI"]) * float(cases.attrs["adhesion.T_max"]) / float(cases.attrs["material.E"])
-        kwargs = {"tau_DI": tau} if args.name == "cap_PxOverAc" else {}
+        kwargs = {"tau_DI": _tau_DI(cases)} if args.name == "cap_PxOverAc" else {}
         draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
     elif args.name in figures.CASE_FIGURES:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
         case = open_result(args.input, "case")
-        if case.sizes.get("snapshot", 0) == 0:
+        if case.sizes.get("snapshot_ubar", 0) == 0:
             raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs them: "
                              "output.snapshot_ubar)")
         draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731

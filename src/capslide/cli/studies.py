@@ -31,13 +31,13 @@ def read_spec(path: str, kind: str) -> tuple[dict, dict]:
 def cmd_verify(args) -> int:
     """Sweep a Hertz/JKR verification scene; write the comparison table as CSV."""
     from ..studies.verification import TABLE_COLUMNS, VerificationFailed, sweep, table_rows
-    from .cases import ProgressPrinter
+    from .progress import ProgressDisplay
 
     params = parameters(args)
     if not params.config["verification"]["loads"]:
         raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
     (output,) = check_outputs([args.output], {"csv"})
-    progress = None if args.quiet else ProgressPrinter()
+    progress = None if args.quiet else ProgressDisplay()
     try:
         rows = sweep(params, args.scene, progress=progress)
     except VerificationFailed as err:

@@ -15,6 +15,7 @@ import numpy as np
 from ..fem.mesh import Mesh
 from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, load_path
+from ..loadpath.continuation import Notice
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
 from ..model import cost
 from ..model.build import build_model, cap_mesh_spec
@@ -58,7 +59,9 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     :mod:`capslide.model.cost`), and a case that takes more than ``limits.max_steps`` steps ends diverged.
     """
     if mesh is None:
-        cost.check(params, cap_mesh_spec(params))
+        estimate = cost.check(params, cap_mesh_spec(params))
+        for obs in observers:
+            obs.notice(Notice(f"building the mesh: {estimate.cells:,} {params.mesh.element} cells, {estimate.dofs:,} DOF"))
     else:
         cost.check_steps(params)
     model = build_model(params, mesh)
@@ -89,6 +92,10 @@ def _observe(path, observers: Sequence[Observer]) -> PathEnd:
             step = next(path)
         except StopIteration as done:
             return done.value
+        if isinstance(step, Notice):
+            for obs in observers:
+                obs.notice(step)
+            continue
         for obs in observers:
             stop = obs.step(step)
             if stop is not None:

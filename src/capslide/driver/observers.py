@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, PathStep
+from ..loadpath.continuation import Notice
 from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
 from ..model.system import CapModel
 from ..states import Status
@@ -27,10 +28,13 @@ class Stop:
 
 
 class Observer:
-    """Base class: sees every converged step; ends nothing, restates nothing."""
+    """Base class: sees every converged step and notice; ends nothing, restates nothing."""
 
     def step(self, step: PathStep) -> Stop | None:
         return None
+
+    def notice(self, notice: Notice) -> None:
+        """What the case is doing between steps (building the mesh, a cut-back)."""
 
     def end(self, end: PathEnd) -> PathEnd:
         return end

@@ -61,44 +61,60 @@ def fig_cap_setup(mesh: Mesh, p: Parameters):
 MODEL_STYLE = {("DI", None): (BLUE, "-", r"DI, $g_\mathrm{cut} = g_\mathrm{max}$"),
                ("EA", 1.0): (ORANGE, "--", r"EA, $s_\mathrm{cut} = 1$"),
                ("EA", 0.0): (PURPLE, "-.", r"EA, $s_\mathrm{cut} = 0$ (Coulomb)")}
+PRELOAD_MARKERS = ("v", "s", "o", "D", "^", "P", "X")
 
 
-def _case_style(model: str, s_cut: float):
-    key = (model, None if model != "EA" else float(s_cut))
-    return MODEL_STYLE.get(key, ("0.3", ":", f"{model}, s_cut = {s_cut:g}" if model == "EA" else model))
+def _model_style(cases, model: str):
+    """Colour, line style and label of a study model (from its coordinates friction_model and s_cut)."""
+    kind = str(cases["friction_model"].sel(model=model).values) if "friction_model" in cases.coords else model
+    s_cut = float(cases["s_cut"].sel(model=model)) if "s_cut" in cases.coords else float("nan")
+    key = (kind, None if kind != "EA" else s_cut)
+    return MODEL_STYLE.get(key, ("0.3", ":", f"{model} ({kind}, s_cut = {s_cut:g})" if kind == "EA" else model))
 
 
-def _slide_curve(ds, i):
-    n = int(ds["n_steps"][i])
-    phase = ds["phase"][i, :n].values
-    sel = np.flatnonzero(phase == Phase.SLIDE)
-    return {k: ds[k][i, :n].values[sel] for k in ("ubar", "Ft", "area")}
+def _slide_curve(cases, model: str, preload: float) -> dict[str, np.ndarray]:
+    """ubar, Ft and area over the slide of one case of the cube."""
+    case = cases.sel(model=model, preload=preload)
+    sel = np.flatnonzero(case["phase"].values == Phase.SLIDE)
+    return {k: case[k].values[sel] for k in ("ubar", "Ft", "area")}
+
+
+def _cases(cases, full_slides: bool | None = None):
+    """(model, preload) of every case in the cube; only full slides (True) or only onset-only ones (False)."""
+    out = []
+    for m in cases["model"].values:
+        for f in cases["preload"].values:
+            end = int(cases["slide_end"].sel(model=m, preload=f))
+            if end >= 0 and (full_slides is None or (end == 0) == full_slides):
+                out.append((str(m), float(f)))
+    return out
 
 
 def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
     """f:cap:PxAndAc: Ft and contact area against ubar, one row per preload, the models per panel.
 
-    Only cases that slid to ubar_max are drawn (``slide_end`` = 0).
+    Only cases that slid to ubar_max are drawn (``slide_end`` = 0); squares mark the onset of full sliding, dots
+    the snapshot positions of DI at zero load.
     """
-    if "slide_end" in cases:
-        cases = cases.isel(case=np.flatnonzero(cases["slide_end"].values == 0))
-    preloads = sorted(set(np.round(cases["preload"].values, 6)))
+    full = _cases(cases, full_slides=True)
+    preloads = sorted({f for _, f in full})
     fig, axes = plt.subplots(len(preloads), 2, figsize=(DOUBLE_COLUMN, 2.0 * len(preloads) + 0.4), squeeze=False)
     for row, F in zip(axes, preloads):
-        for i in np.flatnonzero(np.isclose(cases["preload"].values, F)):
-            col, ls, label = _case_style(str(cases["model"][i].values), float(cases["s_cut"][i]))
-            c = _slide_curve(cases, i)
+        for model in [m for m, f in full if f == F]:
+            col, ls, label = _model_style(cases, model)
+            c = _slide_curve(cases, model, F)
+            onset = float(cases["onset_ubar"].sel(model=model, preload=F))
             for ax, key in zip(row, ("Ft", "area")):
                 ax.plot(c["ubar"], c[key], ls, color=col, label=label)
-                onset = float(cases["onset_ubar"][i])
                 if np.isfinite(onset):
                     ax.plot(onset, np.interp(onset, c["ubar"], c[key]), "s", color=col, ms=4, mfc="white")
-                if str(cases["model"][i].values) == "DI" and abs(F) < 1e-9:
+                if label.startswith("DI") and abs(F) < 1e-9:
                     su = [u for u in snapshot_ubar if u <= c["ubar"].max()]
                     ax.plot(su, np.interp(su, c["ubar"], c[key]), "o", color=col, ms=2.5)
         kind = "compression" if F < 0 else ("tension" if F > 0 else "zero load")
-        row[0].set(ylabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", title=fr"friction force, {kind}, $F_\mathrm{{n}}^* = {F:g}$")
-        row[1].set(ylabel=r"contact area $A\,/\,L_0$", title=fr"contact area, {kind}, $F_\mathrm{{n}}^* = {F:g}$")
+        F_text = f"{F:+.3g}" if F else "0"
+        row[0].set(ylabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", title=fr"friction force, {kind}, $F_\mathrm{{n}}^* = {F_text}$")
+        row[1].set(ylabel=r"contact area $A\,/\,L_0$", title=fr"contact area, {kind}, $F_\mathrm{{n}}^* = {F_text}$")
     for ax in axes[-1]:
         ax.set_xlabel(r"tangential displacement $\bar{u}\,/\,L_0$")
     handles, labels = axes[0, 0].get_legend_handles_labels()
@@ -108,28 +124,43 @@ def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0
 
 
 def fig_cap_PxOverAc(cases, tau_DI: float | None = None):
-    """f:cap:PxOverAc: contact area against Ft up to the onset of full sliding, all preloads and models."""
-    fig, ax = plt.subplots(figsize=(SINGLE_COLUMN, 2.8))
-    preloads = sorted(set(np.round(cases["preload"].values, 6)))
-    shades = dict(zip(preloads, np.linspace(1.0, 0.45, max(len(preloads), 1))))
-    seen = set()
-    for i in range(cases.sizes["case"]):
-        model, s_cut = str(cases["model"][i].values), float(cases["s_cut"][i])
-        col, ls, label = _case_style(model, s_cut)
-        c = _slide_curve(cases, i)
-        onset = float(cases["onset_ubar"][i])
+    """f:cap:PxOverAc: contact area against Ft up to the onset of full sliding, all preloads and models.
+
+    Models by colour and line style, preloads by the marker at each curve's start (Ft = 0) and its onset (open);
+    Coulomb-Amontons (EA, s_cut = 0), which slides at the smallest force, is drawn on top.
+    """
+    from matplotlib.lines import Line2D
+
+    fig, ax = plt.subplots(figsize=(SINGLE_COLUMN, 3.0))
+    preloads = sorted({f for _, f in _cases(cases)})
+    marker = {f: PRELOAD_MARKERS[i % len(PRELOAD_MARKERS)] for i, f in enumerate(preloads)}
+    seen = {}
+    for model, F in _cases(cases):
+        col, ls, label = _model_style(cases, model)
+        on_top = 3 if "Coulomb" in label else 2
+        c = _slide_curve(cases, model, F)
+        onset = float(cases["onset_ubar"].sel(model=model, preload=F))
         keep = c["ubar"] <= (onset if np.isfinite(onset) else np.inf)
-        alpha = shades[round(float(cases["preload"][i]), 6)]
-        ax.plot(c["Ft"][keep], c["area"][keep], ls, color=col, alpha=alpha, label=None if label in seen else label)
-        seen.add(label)
+        (line,) = ax.plot(c["Ft"][keep], c["area"][keep], ls, color=col, lw=1.0, zorder=on_top)
+        seen.setdefault(label, line)
+        ax.plot(c["Ft"][0], c["area"][0], marker[F], color=col, ms=3.5, zorder=on_top + 1)
         if np.isfinite(onset):
-            ax.plot(float(cases["onset_Ft"][i]), float(cases["onset_area"][i]), "s", color=col, ms=3.5, mfc="white")
+            ax.plot(float(cases["onset_Ft"].sel(model=model, preload=F)),
+                    float(cases["onset_area"].sel(model=model, preload=F)), marker[F], color=col, ms=4, mfc="white",
+                    zorder=on_top + 1)
+    handles, labels = list(seen.values()), list(seen)
     if tau_DI:
         A = np.linspace(0, ax.get_ylim()[1], 10)
-        ax.plot(tau_DI * A, A, ":", color="k", lw=0.8, label=r"$F_\mathrm{t} = \tau_\mathrm{DI} A$")
+        handles += ax.plot(tau_DI * A, A, ":", color="k", lw=0.8, zorder=1)
+        labels.append(r"$F_\mathrm{t} = \tau_\mathrm{DI} A$")
     ax.set(xlabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", ylabel=r"contact area $A\,/\,L_0$", xlim=(0, None), ylim=(0, None),
-           title=f"up to full sliding, preloads {', '.join(f'{F:g}' for F in preloads)}")
-    ax.legend(loc="lower right", fontsize=6)
+           title="contact area against friction force up to full sliding")
+    first = ax.legend(handles, labels, loc="lower right", fontsize=5.5)
+    ax.add_artist(first)
+    keys = [Line2D([], [], ls="none", marker=marker[f], color="0.3", ms=3.5, label=fr"$F_\mathrm{{n}}^* = {f:+.3g}$")
+            for f in preloads]
+    ax.legend(handles=keys, loc="upper left", fontsize=5.5, title="preload (filled: start, open: onset)",
+              title_fontsize=5.5)
     fig.tight_layout()
     return fig
 
@@ -206,7 +237,7 @@ def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5,
     if k0 is not None:
         c0, _, _, _ = _snapshot_geometry(case, k0)
         c0 = c0[_cells_in_window(c0, xlim, ylim)]
-        x0, y0 = case["x_surface"][s0].values, case["y_surface"][s0].values
+        x0, y0 = case["x_current"][s0].values, case["y_current"][s0].values
     pc = None
     for ax, k, (corners, I1, h, _), m in zip(axes.flat, ks, geo, picked):
         _substrate(ax, h, xlim, depth)
@@ -265,7 +296,8 @@ def fig_cap_xn(case, ubar: float | None = None):
 
     ax1.add_patch(Rectangle((xlim2[0], ylim2[0]), xlim2[1] - xlim2[0], ylim2[1] - ylim2[0], fill=False, ec="k", lw=0.6))
     Fn = round(float(case["Fn"][step]), 6)
-    ax1.set_title(fr"(a) deformed cap at $\bar{{u}} = {float(snaps[k]):g}\,L_0$, $F_\mathrm{{n}}^* = {Fn + 0.0:+.3f}$, "
+    Fn_text = "0" if abs(Fn) < 5e-4 else f"{Fn:+.3g}"
+    ax1.set_title(fr"(a) deformed cap at $\bar{{u}} = {float(snaps[k]):g}\,L_0$, $F_\mathrm{{n}}^* = {Fn_text}$, "
                   fr"$F_\mathrm{{t}} = {float(case['Ft'][step]):.3g}\,E L_0 W$")
     ax2.set_title("(b) zoom on the contact (true scale)")
     fig.colorbar(pc, ax=[ax1, ax2], label=r"$I_1(\sigma)\,/\,E$ (colour range from the zoom)", shrink=0.8,

@@ -35,7 +35,7 @@ from ..loadpath.continuation import Loop
 from ..loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, Snapshot, StepRecord
 from ..model.system import History
 from ..states import Phase
-from ..version import __version__
+from ..version import software_version
 from .atomic import replacing
 
 __all__ = ["SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
@@ -159,7 +159,7 @@ class CheckpointWriter:
         loop = None if s.loop is None else {
             "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
             "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
-        header = {"version": __version__, "config_sha256": self.config_sha, "leg": s.leg, "loop": loop,
+        header = {"version": software_version(), "config_sha256": self.config_sha, "leg": s.leg, "loop": loop,
                   "targets": list(s.targets), "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks],
                   "cutbacks": s.cutbacks, "smallest": s.smallest, "elapsed": saved.elapsed, "chunks": self.chunks,
                   "arrays_sha256": _sha(*(arrays[k] for k in sorted(arrays)))}
@@ -196,8 +196,9 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
     if hashlib.sha256(text.encode()).hexdigest() != str(data["header_sha256"]):
         raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
     meta = json.loads(text)
-    if meta.get("version") != __version__:
-        raise CheckpointError(f"checkpoint '{path}' was written by capslide {meta.get('version')}, this is {__version__}")
+    if meta.get("version") != software_version():
+        raise CheckpointError(f"checkpoint '{path}' was written by capslide {meta.get('version')}, "
+                              f"this is {software_version()}")
     if meta.get("config_sha256") != hashlib.sha256(config_yaml.encode()).hexdigest():
         raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
     arrays = {k: v for k, v in data.items() if k not in ("header", "header_sha256")}

@@ -28,7 +28,7 @@ def kind_of(ds: xr.Dataset) -> str | None:
     """'case', 'cases' or 'mesh' for the files capslide writes; None for any other dataset."""
     if "status" not in ds.attrs and "status" not in ds:
         return "mesh" if {"cell_nodes", "X_node"} <= set(ds.variables) and "element" in ds.attrs else None
-    if "case" in ds.dims and "status" in ds:
+    if {"model", "preload"} <= set(ds.dims) and "status" in ds:
         return "cases"
     if "step" in ds.dims and "phase" in ds and "status" in ds.attrs:
         return "case"
@@ -61,7 +61,7 @@ def config_of(path: str | Path) -> dict:
 
 def mesh_from_dataset(ds: xr.Dataset) -> Mesh:
     nodes = np.column_stack([ds["X_node"].values, ds["Y_node"].values])
-    info = {k[5:]: v for k, v in ds.attrs.items() if k.startswith("mesh_")}
+    info = {k[len("grading_"):]: v for k, v in ds.attrs.items() if k.startswith("grading_")}
     return Mesh(str(ds.attrs["element"]), nodes, ds["cell_nodes"].values, ds["base_nodes"].values,
                 ds["surface_segment_nodes"].values, info)
 

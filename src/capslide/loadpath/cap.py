@@ -30,7 +30,7 @@ from ..fem.mesh import H0_AT_SIZE_1
 from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
 from ..model.system import CapModel, History
 from ..states import Phase, Status
-from .continuation import Converged, Leg, LegEnd, Loop, StepControl, continuation
+from .continuation import Converged, Leg, LegEnd, Loop, Notice, StepControl, continuation
 from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
@@ -152,14 +152,18 @@ def onset_step_limit(marks: list[Mark], ubar: float, tolerance: float = 0.005) -
 
 
 # -- legs: each sets up its loop (unless resumed), runs it, and says what comes next ----------------------------
-def _run(model: CapModel, state: PathState, steps: Generator[Converged, None, LegEnd],
-         after: str) -> Generator[PathStep, None, LegEnd]:
-    """Relay the continuation's steps as path steps; on completion the state moves on to the leg ``after``."""
+def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice, None, LegEnd],
+         after: str) -> Generator[PathStep | Notice, None, LegEnd]:
+    """Relay the continuation's steps as path steps (notices as they are); on completion the state moves on to the
+    leg ``after``."""
     while True:
         try:
             conv = next(steps)
         except StopIteration as done:
             return done.value
+        if isinstance(conv, Notice):
+            yield conv
+            continue
         state.x, state.history = conv.x, conv.history
         state.marks = [*state.marks[-1:], Mark(conv.record.phase, conv.record.ubar, conv.record.Fn,
                                                conv.record.area_stick)]

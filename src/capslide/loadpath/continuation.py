@@ -23,7 +23,7 @@ from ..solvers.newton import NewtonOptions, NewtonResult, newton
 from ..states import Phase, Status
 from .measures import StepRecord, measure
 
-__all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "newton_options", "solve_constrained", "continuation",
+__all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "Notice", "newton_options", "solve_constrained", "continuation",
            "drain"]
 
 
@@ -95,6 +95,13 @@ class Converged:
     end: LegEnd | None = None  # set on the last step of the continuation
 
 
+@dataclass(frozen=True)
+class Notice:
+    """What the path is doing between converged steps (a cut-back), for a progress display."""
+
+    text: str
+
+
 def _tolerance(end: float) -> float:
     return 1e-12 * max(1.0, abs(end))
 
@@ -112,8 +119,10 @@ def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndar
                   x0, opts, r_ref=1.0, admissible=model.admissible)
 
 
-def continuation(model: CapModel, loop: Loop, history: History, leg: Leg) -> Generator[Converged, None, LegEnd]:
-    """Continue ``loop`` to the end of ``leg`` from the friction ``history``; the steps as they converge."""
+def continuation(model: CapModel, loop: Loop, history: History,
+                 leg: Leg) -> Generator[Converged | Notice, None, LegEnd]:
+    """Continue ``loop`` to the end of ``leg`` from the friction ``history``; the steps as they converge, and a
+    :class:`Notice` at every cut-back."""
     end, control, name, ends, step_limit = leg.end, leg.control, leg.name, leg.ends, leg.step_limit
     direction = 1.0 if end >= loop.value else -1.0
     tol = _tolerance(end)
@@ -144,6 +153,7 @@ def continuation(model: CapModel, loop: Loop, history: History, leg: Leg) -> Gen
             if loop.step < control.minimum:
                 return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
                               f"({res.reason})")
+            yield Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
             continue
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
@@ -168,11 +178,12 @@ def continuation(model: CapModel, loop: Loop, history: History, leg: Leg) -> Gen
 
 
 def drain(steps: Iterator, observe: Callable[[object], None] | None = None):
-    """Run a generator of steps to its end, calling ``observe(step)`` on each; its return value."""
+    """Run a generator of steps to its end, calling ``observe(step)`` on each step (notices skipped); its return
+    value."""
     while True:
         try:
             step = next(steps)
         except StopIteration as done:
             return done.value
-        if observe is not None:
+        if observe is not None and not isinstance(step, Notice):
             observe(step)

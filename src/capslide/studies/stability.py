@@ -59,7 +59,7 @@ def case_arrays(path: str | Path) -> dict:
     at = ds.attrs
     a.update(status=str(at.get("status")), cutbacks=int(at.get("cutbacks", 0)), min_step=float(at.get("min_step", np.nan)),
              wall_time=float(at.get("case_wall_time", np.nan)),
-             tau_DI=float(at["friction.mu_DI"]) * float(at["adhesion.T_max"]) / float(at["material.E"]))
+             tau_DI=float(at["friction_mu_DI"]) * float(at["adhesion_T_max"]) / float(at["material_E"]))
     return a
 
 

@@ -1,0 +1,63 @@
+"""The progress of a running case: one 80-column line on a terminal, one log line per step elsewhere."""
+
+import fcntl
+import os
+import re
+import select
+import struct
+import subprocess
+import sys
+import termios
+
+from conftest import PAPER_CONFIG
+
+RUN = [sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "preset=fast", "--set", "mesh.size=32",
+       "--set", "loading.ubar_max=0.6", "--set", "output.checkpoint_every=0", "--set", "output.snapshot_ubar=[]"]
+
+
+def _in_a_terminal(cmd, columns=80):
+    """Run ``cmd`` with a pseudo-terminal of ``columns`` columns as its terminal; (exit code, what it showed)."""
+    master, slave = os.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, columns, 0, 0))
+    proc = subprocess.Popen(cmd, stdin=slave, stdout=slave, stderr=slave)
+    os.close(slave)
+    out = b""
+    while True:
+        ready, _, _ = select.select([master], [], [], 0.5)
+        if ready:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:  # the terminal closed with the process
+                break
+            if not chunk:
+                break
+            out += chunk
+        elif proc.poll() is not None:
+            break
+    os.close(master)
+    return proc.wait(), out.decode(errors="replace")
+
+
+def test_the_bar_fits_80_columns_and_stays_on_one_line(tmp_path):
+    code, shown = _in_a_terminal([*RUN, "-o", str(tmp_path / "case.nc")])
+    assert code == 0, shown
+    bar, summary = shown.rsplit("\n", 2)[0], shown.rsplit("\n", 2)[1]
+    assert "\n" not in bar.strip("\n") and summary.startswith(str(tmp_path / "case.nc"))  # redrawn in place
+    frames = [re.sub(r"\x1b\[[0-9;]*[A-Za-z]", "", f) for f in re.split(r"\r", bar) if f.strip()]
+    assert len(frames) > 10 and max(map(len, frames)) <= 80
+    assert any(f.startswith("building the mesh") for f in frames)
+    assert any(f.startswith("approach") for f in frames) and any(f.startswith("preload") for f in frames)
+    last = frames[-1]
+    assert last.startswith("slide    ubar 0.600") and "100%|" in last and re.search(r"\d\d:\d\d<\d\d:\d\d$", last)
+
+
+def test_without_a_terminal_one_line_per_step_and_the_cut_backs(tmp_path):
+    res = subprocess.run([*RUN, "--set", "loading.slide_step=0.05", "--set", "loading.max_slide_step=1.0",
+                          "-o", str(tmp_path / "case.nc")], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    lines = res.stderr.splitlines()
+    steps = [ln for ln in lines if ln.split()[0] in ("approach", "preload", "slide")]
+    notices = [ln for ln in lines if ln.startswith("capslide: ")]
+    assert "\r" not in res.stderr and len(steps) > 20
+    assert re.match(r"capslide: building the mesh: [0-9,]+ Q1 cells, [0-9,]+ DOF$", notices[0]), notices[0]
+    assert any(": cut-back 1 at " in n for n in notices), notices  # a first slide step too large to converge
