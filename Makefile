@@ -30,10 +30,12 @@ convergence: setup
 
 test: setup
 	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python -m pytest -m "not slow"
 
 test-all: setup
 	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python -m pytest
 
 lock: setup

@@ -24,13 +24,36 @@ include: "workflow/rules/collect.smk"
 include: "workflow/rules/cap_figures.smk"
 include: "workflow/rules/stability.smk"
 include: "workflow/rules/convergence.smk"
+include: "workflow/rules/report_config.smk"
+
+
+# Jobs of seconds run where Snakemake runs, not as cluster jobs.
+localrules:
+    all,
+    model_figure,
+    mesh,
+    cap_setup_figure,
+    collect,
+    cap_figure,
+    case_figure,
+    vtk_export,
+    paraview,
+    verification_figure,
+    stability_preload,
+    stability_table,
+    convergence_table,
+    effective_config,
+    stability,
+    verification,
+    convergence,
 
 
 rule all:
+    default_target: True
     input:
         model_figures=MODEL_FIGURE_FILES,
         cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
         cases=CASE_FILES,
         collected="results/cases.nc",
         cap_figures=CAP_FIGURE_FILES,
-    default_target: True
+        config="results/config.yaml",

@@ -21,27 +21,14 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
 from capslide.config import load_config
 from capslide.laws import analytic, contact
-from capslide.loadpath.measures import interval_measures
 from capslide.model.build import build_model
-from capslide.model.system import CapModel
 from capslide.params import Parameters
-from capslide.studies.verification import force_controlled_sweep, pressure_error
+from capslide.studies.verification import force_controlled_sweep, pressure_error, reference_half_width
 
 ROOT = Path(__file__).resolve().parents[1]
 GEOMETRY = ["geometry.R=1600", "geometry.H=1500", "mesh.band_half_width=95"]
-
-
-def reference_half_width(model: CapModel, rec) -> float:
-    """Half the length of the reference surface whose points have Tn > 0 (L0); the current one is
-    ``rec.area_compressive / 2``, measured the same way (:func:`capslide.loadpath.measures.measure`)."""
-    a = model.params.adhesion
-    Tn_full, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
-    _, X = model.contact.gaps(np.zeros(model.contact.n_dofs), 0.0)
-    return 0.5 * interval_measures(X.reshape(-1, 2), -Tn_full)[0]
 
 
 def main():
@@ -67,7 +54,9 @@ def main():
         for P in reversed(loads):
             rec = states[P]
             a_h = float(analytic.hertz_line_half_width(P, R, E_star))
-            cur, ref = 0.5 * rec.area_compressive, reference_half_width(model, rec)
+            a = params.adhesion
+            Tn, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
+            cur, ref = 0.5 * rec.area_compressive, reference_half_width(model, rec, -Tn)
             print(f"| {variant} | {model.contact.n_dofs:,} | {P:g} | {a_h / R:.3f} | {100 * (cur / a_h - 1):+.2f} % "
                   f"| {100 * (ref / a_h - 1):+.2f} % | {100 * pressure_error(rec, P, R, E_star):.2f} % "
                   f"| {wall:.0f} |", flush=True)

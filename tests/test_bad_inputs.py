@@ -145,7 +145,9 @@ COMMAND_LINES = [  # (argv after "capslide", words of the one-line message); {t}
     (["collect", "{t}/dir.nc", "-o", "{t}/cases.nc"], ["dir.nc", "is a directory"]),
     (["collect", "{t}/absent.nc", "-o", "{t}/cases.nc"], ["absent.nc", "does not exist"]),
     (["vtk", "{t}/text.nc", "-o", "{t}/text.nc"], ["text.nc"]),
-    (["verify", "{c}", "--scene", "hertz", "-o", "{t}/v.csv"], ["verification.loads is empty"]),
+    (["verify", "{c}", "-o", "{t}/v.csv"], ["verification.loads is empty"]),
+    (["verify", "{c}", "--scene", "hertz", "-o", "{t}/v.csv"], ["--scene = 'hertz'", "repulsion_only = False", "jkr scene"]),
+    (["verify", "{c}", "--scene", "dmt", "-o", "{t}/v.csv"], ["--scene", "invalid choice", "dmt"]),
     (["stability", "{t}/absent.yaml", "{c}", "--cases", "{t}", "-o", "{t}/s.md"], ["absent.yaml"]),
     (["convergence", "{c}", "--cases", "{t}", "-o", "{t}/c.md"], ["config.yaml", "unknown key 'adhesion'"]),
 ]

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from capslide.cli import main
+from capslide.studies.verification import read_tables
 
 from conftest import PAPER_CONFIG
 
@@ -161,6 +162,23 @@ def test_verify_that_finds_no_equilibrium_stops_with_one_line(run, tmp_path):
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "verification of scene hertz stopped: approach: more than 3 cut-backs" in lines[0]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_verify_of_the_paper_cap_says_the_jkr_reference_is_not_valid(run, tmp_path):
+    """The paper's cap (fast preset) has Maugis parameter 4.83 < 5: the table says so on every row, the terminal
+    says it once and marks the rows; the scene comes from the config; the pull-off row has no load. About 12 s."""
+    out = tmp_path / "v.csv"
+    res = run("verify", PAPER_CONFIG, "-q", "-o", out, "--set", "preset=fast", "--set", "verification.loads=[0.0]")
+    assert res.returncode == 0, res.stderr
+    assert "lambda = 4.829" in res.stdout and "NOT a valid reference" in res.stdout
+    rows = {r["quantity"]: r for r in read_tables([out])}
+    assert set(rows) == {"half_width", "half_width_reference", "load_at_half_width", "pull_off"}
+    assert all(r["scene"] == "jkr" and "jkr_valid=no" in r["extra"] for r in rows.values())
+    assert all(ln.startswith("*jkr") for ln in res.stdout.splitlines()[1:])
+    assert rows["pull_off"]["load_P"] == "nan" and float(rows["pull_off"]["fe"]) < 0
+    # the reference-coordinate half-width: the material points in contact, not their current (stretched) span
+    a_cur, a_ref = float(rows["half_width"]["fe"]), float(rows["half_width_reference"]["fe"])
+    assert a_ref != a_cur and abs(a_ref / a_cur - 1) < 0.02
 
 
 def test_a_closed_pipe_ends_quietly():

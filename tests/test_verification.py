@@ -104,7 +104,7 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     w = p.adhesion.W_adh
     for P in loads:
         assert states[P].phase == Phase.PRELOAD and states[P].Fn == pytest.approx(-P, abs=1e-9)
-    edge_path = [r for r in records if r.phase == Phase.APPROACH and r.area > 0]
+    edge_path = [r for r in records if r.phase == Phase.SPREAD]
     i_peak = max(range(len(edge_path)), key=lambda i: edge_path[i].Fn)
     assert edge_path[i_peak].Fn == F_max and 0 < i_peak < len(edge_path) - 3  # through the pull-off point
     assert states[-0.2].area > edge_path[i_peak].area  # the tensile load on the stable branch
@@ -125,4 +125,8 @@ def test_hertz_scene_on_a_coarse_mesh():
     rows = {r.quantity: r for r in sweep(Parameters.from_config(cfg), "hertz")}
     assert rows["half_width"].theory == pytest.approx(8.0107, rel=1e-4)  # a/R = 0.04
     assert abs(rows["half_width"].rel_error) < 0.005
+    # the surface points in contact moved towards the axis (the Hertz tangential displacement): their reference
+    # span is longer, +0.52 % against the closed form here (issue's 2 %); 1 % asserted
+    assert rows["half_width_reference"].fe > rows["half_width"].fe
+    assert abs(rows["half_width_reference"].rel_error) < 0.01
     assert 0.0 < rows["pressure_L2"].fe < 0.01

@@ -29,6 +29,11 @@ def test_preset_file_reaches_every_case_and_the_convergence_target_plans(workdir
     assert jobs["convergence_table"] == "1" and int(jobs["convergence_case"]) >= 40
 
 
+def test_the_workflow_passes_its_linter(workdir):
+    res = subprocess.run([str(SNAKEMAKE), "--lint"], cwd=workdir, capture_output=True, text=True)
+    assert res.returncode == 0 and "Congratulations" in res.stdout + res.stderr, res.stdout[-3000:]
+
+
 def test_slurm_profile_parses(workdir):
     """The cluster profile loads (executor plugin installed, resources valid) without a cluster: a dry run."""
     res = snakemake(workdir, "--profile", "profiles/slurm", "-n")
@@ -109,6 +114,9 @@ def test_smoke_workflow_end_to_end(workdir):
     assert rep.returncode == 0, rep.stdout[-2000:] + rep.stderr[-2000:]
     page = (workdir / "report.html").read_text()
     assert len(page) > 200_000 and all(f"Reproduces <strong>{f}</strong>" in page for f in ("f:Tn", "f:cap:Aczoom", "f:cap:xn"))
+    assert "config.yaml;base64," in page and "The configuration of this run" in page  # the validated config
+    leaks = [s for s in (str(workdir), str(ROOT), ".venv", os.path.expanduser("~") + "/") if s in page]
+    assert not leaks, leaks  # no local path: the report is shared
 
     # ParaView export of every case (optional target)
     pv = snakemake(workdir, "paraview", "--configfile", "config/smoke.yaml")
@@ -140,18 +148,21 @@ def test_smoke_workflow_end_to_end(workdir):
 
 
 def run_documented_examples(workdir):
-    """Every Python example of README.md and docs/data.md, run where the smoke study's results are."""
+    """Every Python example of README.md and docs/data.md, run where the smoke study's results are; the examples
+    of one document share a namespace, as they do for a reader going down the page."""
     import matplotlib
 
     matplotlib.use("Agg")
-    blocks = [block.split("```", 1)[0] for doc in ("README.md", "docs/data.md")
-              for block in (ROOT / doc).read_text().split("```python\n")[1:]]
-    assert len(blocks) >= 5
+    docs = {doc: [block.split("```", 1)[0] for block in (ROOT / doc).read_text().split("```python\n")[1:]]
+            for doc in ("README.md", "docs/data.md")}
+    assert sum(map(len, docs.values())) >= 5
     cwd = os.getcwd()
     os.chdir(workdir)
     try:
-        for block in blocks:
-            exec(compile(block, "example", "exec"), {})  # noqa: S102 (the project's own documentation)
+        for doc, blocks in docs.items():
+            namespace = {}
+            for block in blocks:
+                exec(compile(block, doc, "exec"), namespace)  # noqa: S102 (the project's own documentation)
     finally:
         os.chdir(cwd)
 

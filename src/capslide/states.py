@@ -32,11 +32,13 @@ class _Flag(IntEnum):
 
 
 class Phase(_Flag):
-    """Load phase of a converged step (DESIGN section 5)."""
+    """Load phase of a converged step (DESIGN section 5); spread: the contact spreads with its edge held (stiff,
+    short-range laws, after the approach; the edge-controlled verification sweep)."""
 
     APPROACH = 0
     PRELOAD = 1
     SLIDE = 2
+    SPREAD = 3
 
 
 class SlipState(_Flag):

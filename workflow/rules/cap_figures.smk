@@ -4,12 +4,20 @@ CAP_FIGURES = ["cap_PxAndAc", "cap_PxOverAc"]
 CASE_FIGURES = ["cap_Aczoom", "cap_xn"]
 # the case the paper's snapshot figures show: model DI, zero normal load
 SNAPSHOT_CASE = next(
-    (c for c, sets in sorted(CASES.items()) if sets.get("friction.model") == "DI" and sets["loading.preload"] == 0.0),
+    (
+        c
+        for c, sets in sorted(CASES.items())
+        if sets.get("friction.model") == "DI" and sets["loading.preload"] == 0.0
+    ),
     None,
 )
-CAP_FIGURE_FILES = expand("results/figures/{name}.{ext}", name=CAP_FIGURES, ext=["pdf", "png"])
+CAP_FIGURE_FILES = expand(
+    "results/figures/{name}.{ext}", name=CAP_FIGURES, ext=["pdf", "png"]
+)
 if SNAPSHOT_CASE is not None:
-    CAP_FIGURE_FILES += expand("results/figures/{name}.{ext}", name=CASE_FIGURES, ext=["pdf", "png"])
+    CAP_FIGURE_FILES += expand(
+        "results/figures/{name}.{ext}", name=CASE_FIGURES, ext=["pdf", "png"]
+    )
 
 
 rule cap_figure:
@@ -17,19 +25,25 @@ rule cap_figure:
         "results/cases.nc",
     output:
         pdf="results/figures/{name}.pdf",
-        png=report("results/figures/{name}.png", caption="../report/cap_figure.rst", category="Cap: sliding"),
-    wildcard_constraints:
-        name="|".join(CAP_FIGURES),
+        png=report(
+            "results/figures/{name}.png",
+            caption="../report/cap_figure.rst",
+            category="Cap: sliding",
+        ),
     log:
         "logs/figures/{name}.log",
     benchmark:
         "results/benchmarks/figures/{name}.tsv"
+    wildcard_constraints:
+        name="|".join(CAP_FIGURES),
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,
         runtime=5,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " figure {wildcards.name} --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} figure {{wildcards.name}} --input {{input}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"
 
 
 rule case_figure:
@@ -37,19 +51,25 @@ rule case_figure:
         f"results/cases/{SNAPSHOT_CASE}.nc",
     output:
         pdf="results/figures/{name}.pdf",
-        png=report("results/figures/{name}.png", caption="../report/case_figure.rst", category="Cap: sliding"),
-    wildcard_constraints:
-        name="|".join(CASE_FIGURES),
+        png=report(
+            "results/figures/{name}.png",
+            caption="../report/case_figure.rst",
+            category="Cap: sliding",
+        ),
     log:
         "logs/figures/{name}.log",
     benchmark:
         "results/benchmarks/figures/{name}.tsv"
+    wildcard_constraints:
+        name="|".join(CASE_FIGURES),
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=4000,
         runtime=10,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " figure {wildcards.name} --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} figure {{wildcards.name}} --input {{input}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"
 
 
 # snakemake --cores 2 paraview: every case's field snapshots as .vtu series with a .pvd index (optional target).
@@ -63,13 +83,15 @@ rule vtk_export:
         "results/cases/{case}.nc",
     output:
         "results/paraview/{case}/{case}.pvd",
-    wildcard_constraints:
-        case="|".join(re.escape(c) for c in CASES) if CASES else "none",
     log:
         "logs/paraview/{case}.log",
+    wildcard_constraints:
+        case="|".join(re.escape(c) for c in CASES) if CASES else "none",
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " vtk {input} -o results/paraview/{wildcards.case} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} vtk {{input}} -o results/paraview/{{wildcards.case}} > {{log}} 2>&1"

@@ -1,7 +1,9 @@
 # The study's cases: one netCDF file per (model, preload), from config["study"] (capslide.studies.expansion).
 STUDY = config["study"]
 CASES = expand_study(STUDY, "study", "config")  # case name -> overrides
-CASE_FILES = expand("results/cases/{case}.nc", case=list(CASES))  # study order: the cube's model order
+CASE_FILES = expand(
+    "results/cases/{case}.nc", case=list(CASES)
+)  # study order: the cube's model order
 
 
 rule run_case:
@@ -9,17 +11,19 @@ rule run_case:
         CONFIG_FILES,
     output:
         "results/cases/{case}.nc",
-    wildcard_constraints:
-        case="|".join(re.escape(c) for c in CASES) if CASES else "none",
-    params:
-        overrides=lambda wildcards: set_args(CASES[wildcards.case]),
     log:
         "logs/cases/{case}.log",
     benchmark:
         "results/benchmarks/cases/{case}.tsv"
+    wildcard_constraints:
+        case="|".join(re.escape(c) for c in CASES) if CASES else "none",
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=4000,
         runtime=120,
+    params:
+        overrides=lambda wildcards: set_args(CASES[wildcards.case]),
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " run --resume " + CONFIG_ARGS + " {params.overrides} -o {output} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} run --resume {CONFIG_ARGS} {{params.overrides}} -o {{output}} > {{log}} 2>&1"

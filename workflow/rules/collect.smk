@@ -10,9 +10,11 @@ rule collect:
         "logs/collect.log",
     benchmark:
         "results/benchmarks/collect.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=4000,
         runtime=10,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " collect {input} -o {output} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} collect {{input}} -o {{output}} > {{log}} 2>&1"

@@ -1,4 +1,5 @@
 # Helpers shared by every rule: validated config, study expansion, the CLI call, job settings.
+import os
 import re
 import shlex
 import sys
@@ -6,29 +7,53 @@ from pathlib import Path
 
 import yaml
 
-from capslide.config import ConfigError, apply_settings, flatten, override_args, retyped, validate
+from capslide.config import (
+    ConfigError,
+    apply_settings,
+    flatten,
+    override_args,
+    retyped,
+    validate,
+)
 from capslide.studies.expansion import check_runs, runs
 from snakemake.exceptions import WorkflowError
 
 # --config NAME=VALUE of this run (Snakemake reads nested values as strings): typed again, applied here, and passed
 # to every capslide call, so that Snakemake's view of the config and what runs are the same configuration
-CONFIG_OVERRIDES = {key: retyped(value) for key, value in flatten(dict(workflow.config_settings.config)).items()}
+CONFIG_OVERRIDES = {
+    key: retyped(value)
+    for key, value in flatten(dict(workflow.config_settings.config)).items()
+}
 try:
-    config = validate(apply_settings(config, CONFIG_OVERRIDES))  # the schema of workflow/schemas/config.schema.yaml
+    config = validate(
+        apply_settings(config, CONFIG_OVERRIDES)
+    )  # the schema of workflow/schemas/config.schema.yaml
 except ConfigError as err:
     raise WorkflowError(f"config error: {err}") from None
 
-# The package CLI from the Python that runs Snakemake (the project's .venv).
-CAPSLIDE = f"{shlex.quote(sys.executable)} -m capslide"
-# The config files of this run in merge order: the Snakefile's default, then --configfile files.
+# Jobs call the capslide command of the Python that runs Snakemake (the project's .venv): its bin directory goes
+# first on the PATH the jobs inherit, so rule commands (and the report) name no local path.
+os.environ.update(
+    PATH=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+)
+CAPSLIDE = "capslide"
+# With --sdm conda every rule runs in workflow/envs/capslide.yaml, capslide from this checkout's src/.
+ENV = "../envs/capslide.yaml"
+if "conda" in {str(m).lower() for m in workflow.deployment_settings.deployment_method}:
+    CAPSLIDE = "PYTHONPATH=src python -m capslide"
+# The config files of this run in merge order: the Snakefile's default, then --configfile files; relative to
+# the working directory where they are inside it (Snakemake hands them over absolute), so that no log, result
+# or report names a local path.
 _default = Path(DEFAULT_CONFIG).resolve()
 CONFIG_FILES = [DEFAULT_CONFIG] + [
-    str(p) for p in dict.fromkeys(Path(f).resolve() for f in workflow.configfiles) if p != _default
+    str(p.relative_to(Path.cwd())) if p.is_relative_to(Path.cwd()) else str(p)
+    for p in dict.fromkeys(Path(f).resolve() for f in workflow.configfiles)
+    if p != _default
 ]
 CONFIG_ARGS = " ".join(shlex.quote(p) for p in CONFIG_FILES) + "".join(
     f" --set {shlex.quote(s)}" for s in override_args(CONFIG_OVERRIDES)
 )
-# One BLAS/OpenMP thread per declared rule thread: parallel jobs do not oversubscribe.
+# One BLAS/OpenMP thread per declared thread of a job: parallel jobs do not oversubscribe the cores.
 THREADS_ENV = "export OMP_NUM_THREADS={threads} OPENBLAS_NUM_THREADS={threads} MKL_NUM_THREADS={threads} MPLBACKEND=Agg;"
 
 
@@ -40,7 +65,8 @@ def read_spec(path):
 
 def expand_study(spec, kind, what, skip=()):
     """Run id -> config overrides of a study spec (capslide.studies.expansion.runs), each run's configuration
-    validated now: a bad spec or run stops the workflow before any job, with one line naming it."""
+    validated now: a bad spec or run stops the workflow before any job, with one line naming it.
+    """
     try:
         out = runs(spec, kind)
         check_runs(out, CONFIG_FILES, skip, CONFIG_OVERRIDES)

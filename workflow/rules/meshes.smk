@@ -9,20 +9,21 @@ rule mesh:
         CONFIG_FILES,
     output:
         "results/meshes/cap_{element}_size{size}.nc",
-    wildcard_constraints:
-        element="Q1|Q2",
-        size=r"[0-9.]+",
     log:
         "logs/meshes/cap_{element}_size{size}.log",
     benchmark:
         "results/benchmarks/meshes/cap_{element}_size{size}.tsv"
+    wildcard_constraints:
+        element="Q1|Q2",
+        size=r"[0-9.]+",
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " mesh " + CONFIG_ARGS
-        + " --set mesh.element={wildcards.element} --set mesh.size={wildcards.size} -o {output} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} mesh {CONFIG_ARGS} --set mesh.element={{wildcards.element}} --set mesh.size={{wildcards.size}} -o {{output}} > {{log}} 2>&1"
 
 
 rule cap_setup_figure:
@@ -30,14 +31,20 @@ rule cap_setup_figure:
         STUDY_MESH,
     output:
         pdf="results/figures/cap_setup.pdf",
-        png=report("results/figures/cap_setup.png", caption="../report/cap_setup.rst", category="Cap: sliding"),
+        png=report(
+            "results/figures/cap_setup.png",
+            caption="../report/cap_setup.rst",
+            category="Cap: sliding",
+        ),
     log:
         "logs/figures/cap_setup.log",
     benchmark:
         "results/benchmarks/figures/cap_setup.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " figure cap_setup --input {input} -o {output.pdf} -o {output.png} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} figure cap_setup --input {{input}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"

@@ -14,18 +14,20 @@ rule verify_scene:
         "config/scenes/{scene}.yaml",
     output:
         "results/verification/{scene}.csv",
-    wildcard_constraints:
-        scene="|".join(VERIFICATION_SCENES),
     log:
         "logs/verification/{scene}.log",
     benchmark:
         "results/benchmarks/verification/{scene}.tsv"
+    wildcard_constraints:
+        scene="|".join(VERIFICATION_SCENES),
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=4000,
         runtime=60,
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " verify {input} --scene {wildcards.scene} -q -o {output} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} --scene {{wildcards.scene}} -q -o {{output}} > {{log}} 2>&1"
 
 
 rule verification_figure:
@@ -33,16 +35,22 @@ rule verification_figure:
         expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
     output:
         pdf="results/verification/verification.pdf",
-        png=report("results/verification/verification.png", caption="../report/verification.rst", category="Verification"),
-    params:
-        tables=lambda wildcards, input: " ".join(f"--table {t}" for t in input),
+        png=report(
+            "results/verification/verification.png",
+            caption="../report/verification.rst",
+            category="Verification",
+        ),
     log:
         "logs/verification/figure.log",
     benchmark:
         "results/benchmarks/verification/figure.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        tables=lambda wildcards, input: " ".join(f"--table {t}" for t in input),
     shell:
-        THREADS_ENV + " " + CAPSLIDE + " figure verification {params.tables} -o {output.pdf} -o {output.png} > {log} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} figure verification {{params.tables}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"

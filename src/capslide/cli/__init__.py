@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from ..config import ConfigError
 from ..io.reading import ResultFileError
 from ..version import __version__
-from .cases import cmd_collect, cmd_constants, cmd_inspect, cmd_mesh, cmd_run, cmd_vtk
+from .cases import cmd_collect, cmd_config, cmd_constants, cmd_inspect, cmd_mesh, cmd_run, cmd_vtk
 from .common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, InputError, add_config_args
 from .figures import FIGURE_HELP, cmd_figure
 from .studies import cmd_convergence, cmd_pull_off, cmd_stability, cmd_verify
@@ -38,6 +38,11 @@ def build_parser() -> argparse.ArgumentParser:
                      "4 no equilibrium found, 130 interrupted.")
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("config", help="the validated configuration as YAML (presets applied, defaults filled)")
+    add_config_args(p)
+    p.add_argument("-o", "--output", metavar="CONFIG.yaml", help="write it to this file (default: print it)")
+    p.set_defaults(func=cmd_config)
 
     p = sub.add_parser("constants", help="print derived CGCM constants as JSON (internal units and SI)")
     add_config_args(p)
@@ -63,7 +68,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
     add_config_args(p)
-    p.add_argument("--scene", required=True, help="scene name written into the table (hertz, jkr)")
+    p.add_argument("--scene", choices=("hertz", "jkr"),
+                   help="the scene the config must be (default: from the config; hertz = contact.repulsion_only)")
     p.add_argument("-o", "--output", required=True, metavar="TABLE.csv", help="the table of FE against closed forms")
     p.add_argument("-q", "--quiet", action="store_true")
     p.set_defaults(func=cmd_verify)

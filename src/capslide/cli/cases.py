@@ -15,13 +15,30 @@ from ..io.reading import kind_of, open_result
 from .common import EXIT_STATUS, InputError, check_outputs, command_line, parameters
 from .progress import ProgressDisplay
 
-__all__ = ["cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
+__all__ = ["cmd_config", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
            "cmd_vtk"]
 
 # Test hook: after this many converged steps, capslide run sends SIGINT (or the signal named by
 # CAPSLIDE_INTERRUPT_SIGNAL, e.g. HUP) to its own process group, as Ctrl-C does.
 INTERRUPT_AFTER_STEP = "CAPSLIDE_INTERRUPT_AFTER_STEP"
 INTERRUPT_SIGNAL = "CAPSLIDE_INTERRUPT_SIGNAL"
+
+
+def cmd_config(args) -> int:
+    """Write (or print) the validated configuration: files merged, overrides and the preset applied, defaults filled."""
+    import yaml
+
+    from ..config import load_config
+    from .common import write_text_atomic
+
+    config = load_config(args.configs, args.overrides)
+    text = f"# {command_line()}\n" + yaml.safe_dump(config, sort_keys=False)
+    if args.output is None:
+        print(text, end="")
+        return 0
+    (output,) = check_outputs([args.output], {"yaml", "yml"})
+    write_text_atomic(output, text)
+    return 0
 
 
 def cmd_constants(args) -> int:

@@ -30,24 +30,36 @@ def read_spec(path: str, kind: str) -> tuple[dict, dict]:
 
 def cmd_verify(args) -> int:
     """Sweep a Hertz/JKR verification scene; write the comparison table as CSV."""
-    from ..studies.verification import TABLE_COLUMNS, VerificationFailed, sweep, table_rows
+    from ..studies.verification import MAUGIS_JKR, TABLE_COLUMNS, VerificationFailed, scene_of, sweep, table_rows
     from .progress import ProgressDisplay
 
     params = parameters(args)
+    scene = scene_of(params)
+    if args.scene is not None and args.scene != scene:
+        raise InputError(f"--scene = {args.scene!r} does not match the config: contact.repulsion_only = "
+                         f"{params.contact.repulsion_only} makes it a {scene} scene")
     if not params.config["verification"]["loads"]:
         raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
     (output,) = check_outputs([args.output], {"csv"})
     progress = None if args.quiet else ProgressDisplay()
     try:
-        rows = sweep(params, args.scene, progress=progress)
+        rows = sweep(params, scene, progress=progress)
     except VerificationFailed as err:
-        print(f"capslide: verification of scene {args.scene} stopped: {err}; no table written", file=sys.stderr)
+        print(f"capslide: verification of scene {scene} stopped: {err}; no table written", file=sys.stderr)
         return EXIT_STATUS[Status.DIVERGED]
     if progress is not None:
         progress.close()
     write_text_atomic(output, csv_text(table_rows(rows), TABLE_COLUMNS))
+    lam = rows[0].extra.get("maugis_lambda")
+    if lam is not None:
+        valid = rows[0].extra["jkr_valid"] == "yes"
+        print(f"Maugis parameter lambda = {lam}: the JKR closed form is "
+              + ("a valid reference" if valid else f"NOT a valid reference (needs lambda >= {MAUGIS_JKR:g}); "
+                                                   "rows marked * compare with it anyway"))
     for r in rows:
-        print(f"{r.scene:6s} {r.quantity:20s} P={r.load:+.4f} fe={r.fe:.6g} theory={r.theory:.6g} rel={r.rel_error:+.4f}")
+        mark = "*" if r.extra.get("jkr_valid") == "no" else " "
+        print(f"{mark}{r.scene:6s} {r.quantity:20s} P={r.load:+.4f} fe={r.fe:.6g} theory={r.theory:.6g} "
+              f"rel={r.rel_error:+.4f}")
     return 0
 
 

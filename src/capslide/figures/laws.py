@@ -75,7 +75,7 @@ def fig_modelCA(p: Parameters, tau_over_T_max: float = 0.5, g_cut_over_r0: float
     for gm, col, lab in marks:
         _star(ax1, gm / a.r0, contact.di_threshold(gm, tau, f.k_DI, g_cut)[0] / a.T0, col, lab)
     ax1.axvline(g_cut / a.r0, color="0.6", lw=0.5, ls=":")
-    ax1.text(g_cut / a.r0 + 0.03, 0.02, r"$g_\mathrm{cut}$", fontsize=7)
+    ax1.text(g_cut / a.r0 - 0.03, 0.02, r"$g_\mathrm{cut}$", fontsize=7, ha="right")  # clear of the curve
     ax1.set(xlim=(0, 2), ylim=(0, 0.35), xlabel=r"normal gap $g_\mathrm{n}\,/\,r_0$",
             ylabel=r"sliding threshold $t_\mathrm{slide}\,/\,T_0$", title="(a) sliding threshold")
     ax1.legend(loc="upper right")
@@ -100,9 +100,11 @@ def fig_modelAM(p: Parameters, mu: float = 0.2, s_cuts=(0.0, 0.5, 1.0)):
         g_cut = contact.ea_g_cut(s_cut, a.g_eq, a.g_max)
         law = lambda g: contact.ea_threshold(g, mu, g_cut, a.T0, a.r0, a.g_reg)[0]  # noqa: E731
         ax1, ax2 = row
-        ax1.plot(g_hi / a.r0, law(g_hi) / a.T0, color=BLUE, label=r"$T_\mathrm{slide}$")
-        ax1.plot(g_lo / a.r0, law(g_lo) / a.T0, "--", color=BLUE, label="regularized")
         Tn_cut = float(_tn(a, g_cut))
+        ax1.plot(g_hi / a.r0, law(g_hi) / a.T0, color=BLUE, label=r"$T_\mathrm{slide}$")
+        unreg = np.where(g_lo < g_cut, mu * (_tn(a, np.maximum(g_lo, 0.3 * a.r0), False) - Tn_cut), 0.0)
+        ax1.plot(g_lo / a.r0, unreg / a.T0, color=BLUE, lw=0.7, label="unregularized")
+        ax1.plot(g_lo / a.r0, law(g_lo) / a.T0, "--", color=BLUE, label="regularized")
         ax1.plot(g_hi / a.r0, mu * (_tn(a, g_hi) - Tn_cut) / a.T0, ":", color="0.5", lw=0.7,
                  label=r"$\mu_\mathrm{EA}\,[T_\mathrm{n} - T_\mathrm{n}(g_\mathrm{cut})]$")
         for gm, col, lab in marks:
@@ -146,10 +148,13 @@ def fig_TnTt(p: Parameters, mu: float = 0.2, tau_over_T_max: float = 0.5, g_cut_
     for ax, (title, law, marks), letter in zip(axes.flat, panels, "abcd"):
         T = law(g)
         x, y = Tn / a.T0, T / a.T0
+        # arrows in the direction of growing g_n: on the compressive branch (Tn = 1.2, 0.4 T0) and the far one
+        beyond_max = np.flatnonzero(g > a.g_max)
+        marks_at = [int(np.argmin(np.abs(np.where(g < a.g_eq, x, np.inf) - t))) for t in (1.2, 0.4)]
+        marks_at.append(int(beyond_max[np.argmin(np.abs(x[beyond_max] + 0.25))]))
         for sgn in (1.0, -1.0):
             ax.plot(x, sgn * y, color=BLUE)
-            for frac in (0.08, 0.2):
-                i = int(np.searchsorted(g, frac * a.r0 * 10))
+            for i in marks_at:
                 _arrow_along(ax, x, sgn * y, min(i, len(g) - 2), BLUE)
         for gm, col in marks:
             tn, tt = float(_tn(a, gm)) / a.T0, float(law(gm)) / a.T0

@@ -221,7 +221,7 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
         state.loop = Loop.start(state.x, 0.0, X_end, control)
     until = lambda rec: Status.COMPLETED if rec.Fn <= 0.0 else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
-                         Leg(constraint_of, X_end, control, Phase.APPROACH, "approach", ends=until))
+                         Leg(constraint_of, X_end, control, Phase.SPREAD, "approach", ends=until))
     return (yield from _run(model, state, steps, "preload"))
 
 

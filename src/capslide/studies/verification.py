@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..io.reading import ResultFileError
-from ..laws import analytic
+from ..laws import analytic, contact
 from ..loadpath.cap import load_path, spread_constraint, spread_control
 from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
-from ..loadpath.measures import StepRecord, measure
+from ..loadpath.measures import StepRecord, interval_measures, measure
 from ..model import cost
 from ..model.build import build_model, cap_mesh_spec
 from ..model.constraints import FixedEdgeGap, FixedForce
@@ -43,8 +43,12 @@ from ..model.system import CapModel, History
 from ..params import Parameters
 from ..states import Phase, Status
 
-__all__ = ["VerificationFailed", "VerificationRow", "sweep", "pressure_error", "force_controlled_sweep",
-           "edge_controlled_sweep"]
+__all__ = ["VerificationFailed", "VerificationRow", "sweep", "scene_of", "pressure_error", "reference_half_width",
+           "force_controlled_sweep", "edge_controlled_sweep", "MAUGIS_JKR"]
+
+# The JKR closed form is a valid reference for Maugis parameters above about 5 (Baney & Hui 1997; Johnson &
+# Greenwood 2008); below it the cohesive zone is wide and the FE state is not a JKR state (the DMT-JKR transition).
+MAUGIS_JKR = 5.0
 
 
 class VerificationFailed(RuntimeError):
@@ -55,7 +59,7 @@ class VerificationFailed(RuntimeError):
 class VerificationRow:
     scene: str
     quantity: str  # half_width, load_at_half_width, pressure_L2, pull_off
-    load: float  # P = -Fn (E L0 W)
+    load: float  # P = -Fn (E L0 W) at which the row is measured; nan for the pull-off row (the load is the result)
     fe: float
     theory: float
     extra: dict = field(default_factory=dict)  # "relative_to": the error's scale, |theory| if absent
@@ -76,8 +80,19 @@ def pressure_error(rec: StepRecord, P: float, R: float, E_star: float) -> float:
     return float(np.sqrt(np.mean((rec.traction_n[sel] - p_h) ** 2)) / p0)
 
 
-def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
-    """Run the scene's load sweep and compare with the closed forms."""
+def scene_of(params: Parameters) -> str:
+    """The scene a configuration is: hertz (repulsion only) or jkr (the full CGCM law)."""
+    return "hertz" if params.contact.repulsion_only else "jkr"
+
+
+def reference_half_width(model: CapModel, rec: StepRecord, values: np.ndarray) -> float:
+    """Half the reference length of the top surface where ``values`` (per surface point, as in the record) <= 0."""
+    return 0.5 * interval_measures(model.contact.quad.X.reshape(-1, 2), values)[0]
+
+
+def sweep(params: Parameters, scene: str | None = None, progress=None) -> list[VerificationRow]:
+    """Run the scene's load sweep and compare with the closed forms (``scene`` defaults to :func:`scene_of`)."""
+    scene = scene or scene_of(params)
     cost.check(params, cap_mesh_spec(params))
     model = build_model(params)
     a, L, g = params.adhesion, params.loading, params.geometry
@@ -92,23 +107,34 @@ def sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow
         states, F_max, how = force_controlled_sweep(model, loads, records, progress, adhesive)
     P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w) if adhesive else math.nan
     closed_form = {"R": g.R, "E_star": E_star, "w": w}  # P(a) = pi E* a^2/(4R) - sqrt(2 pi E* w a); w = 0: Hertz
+    if adhesive:  # the Maugis parameter says whether the JKR closed form is a reference at all
+        lam = analytic.maugis_parameter_cylinder(g.R, E_star, w, a.T_max)
+        closed_form.update(maugis_lambda=round(lam, 3), jkr_valid="yes" if lam >= MAUGIS_JKR else "no")
     rows: list[VerificationRow] = []
     for P in loads:
         rec = states[P]
         if adhesive:
             a_fe = 0.5 * rec.area
-            rows.append(VerificationRow(scene, "half_width", P, a_fe, analytic.jkr_cylinder_half_width(P, g.R, E_star, w),
-                                        dict(closed_form)))
+            a_th = analytic.jkr_cylinder_half_width(P, g.R, E_star, w)
+            a_ref = reference_half_width(model, rec, rec.gap - params.contact.area_gap)
+            rows.append(VerificationRow(scene, "half_width", P, a_fe, a_th, dict(closed_form)))
+            rows.append(VerificationRow(scene, "half_width_reference", P, a_ref, a_th, dict(closed_form)))
             P_a = float(analytic.jkr_cylinder_load(a_fe, g.R, E_star, w))
             rows.append(VerificationRow(scene, "load_at_half_width", P, P, P_a,
-                                        {"half_width": a_fe, "relative_to": max(abs(P_a), abs(P_c))}))
+                                        {"half_width": a_fe, "relative_to": max(abs(P_a), abs(P_c)),
+                                         "jkr_valid": closed_form["jkr_valid"]}))
         else:
             a_fe = 0.5 * rec.area_compressive
-            rows.append(VerificationRow(scene, "half_width", P, a_fe, float(analytic.hertz_line_half_width(P, g.R, E_star)),
+            a_th = float(analytic.hertz_line_half_width(P, g.R, E_star))
+            Tn, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
+            rows.append(VerificationRow(scene, "half_width", P, a_fe, a_th, dict(closed_form)))
+            rows.append(VerificationRow(scene, "half_width_reference", P, reference_half_width(model, rec, -Tn), a_th,
                                         dict(closed_form)))
             rows.append(VerificationRow(scene, "pressure_L2", P, pressure_error(rec, P, g.R, E_star), 0.0))
     if adhesive:
-        rows.append(VerificationRow(scene, "pull_off", P_c, -F_max, P_c, {"status": how}))
+        rows.append(VerificationRow(scene, "pull_off", math.nan, -F_max, P_c,
+                                    {"status": how, "maugis_lambda": closed_form["maugis_lambda"],
+                                     "jkr_valid": closed_form["jkr_valid"]}))
     return rows
 
 
@@ -175,19 +201,19 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     control = spread_control(model)
 
     def path_forces() -> list[float]:
-        return [r.Fn for r in records[first:] if r.phase == Phase.APPROACH]
+        return [r.Fn for r in records[first:] if r.phase == Phase.SPREAD]
 
     x, X, states = end.x, 0.0, {}
     for P in sorted(loads):  # most tensile first
         until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
         loop = Loop.start(x, X, X_end, control)
-        leg = drain(continuation(model, loop, History(), Leg(constraint_of, X_end, control, Phase.APPROACH, "approach",
+        leg = drain(continuation(model, loop, History(), Leg(constraint_of, X_end, control, Phase.SPREAD, "approach",
                                                              ends=until)), observe)
         if leg.status != Status.COMPLETED or not leg.reason:
             raise VerificationFailed(f"at P = {P}: {leg.reason or 'the contact edge reached the end of the top surface'}")
         if P < -max(path_forces()):
             raise VerificationFailed(f"P = {P} is more tensile than the FE pull-off load {-max(path_forces()):.6g}")
-        edge = [r for r in records[first:] if r.phase == Phase.APPROACH]
+        edge = [r for r in records[first:] if r.phase == Phase.SPREAD]
         bracket = ((loop.value_prev, -edge[-2].Fn, loop.x_prev), (loop.value, -edge[-1].Fn, loop.x))
         states[P] = _equilibrium_at_load(model, bracket, P, records, progress)
         x, X = loop.x, loop.value
