@@ -2,6 +2,7 @@
 #   make reproduce   set up .venv and run the full Snakemake reproduction
 #   make test        set up .venv and run the default test suite
 #   make convergence set up .venv and run the speed-against-error study (results/studies/convergence/)
+#   make test-slurm  the smoke workflow through a local single-node SLURM (root)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -12,7 +13,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: setup reproduce convergence test test-all lock clean
+.PHONY: setup reproduce convergence test test-all test-slurm lock clean
 
 setup: $(VENV)/.installed
 
@@ -37,6 +38,11 @@ test-all: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python -m pytest
+
+# The smoke workflow through profiles/slurm on a single-node SLURM of this machine (root: installs and starts
+# slurmctld, slurmd, slurmdbd, munge, MariaDB; stops them at the end). Not part of make test.
+test-slurm: setup
+	bash tests/slurm/run.sh
 
 lock: setup
 	( echo '# Exact versions of every dependency, used as pip constraints by the Makefile.'; \
