@@ -74,7 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true")
     p.set_defaults(func=cmd_verify)
 
-    p = sub.add_parser("collect", help="stack case files into one dataset over a case dimension")
+    p = sub.add_parser("collect", help="collect case files into one dataset: the model x preload x step cube")
     p.add_argument("files", nargs="+", metavar="CASE.nc")
     p.add_argument("-o", "--output", required=True, metavar="CASES.nc", help="the collected file to write (netCDF)")
     p.set_defaults(func=cmd_collect)
