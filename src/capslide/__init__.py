@@ -7,12 +7,12 @@ Layers, lowest first (a module imports only from its own layer or lower ones; te
 
 from .version import __version__
 
-__all__ = ["__version__", "load_config", "run", "open_case", "open_cases"]
+__all__ = ["__version__", "load_config", "run", "open_case", "open_cases", "config_of"]
 
 
 def __getattr__(name: str):
     """The Python interface (:mod:`capslide.api`), imported on first use: the command line does not pay for it."""
-    if name in ("load_config", "run", "open_case", "open_cases"):
+    if name in ("load_config", "run", "open_case", "open_cases", "config_of"):
         from . import api
 
         return getattr(api, name)

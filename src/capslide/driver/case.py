@@ -15,7 +15,7 @@ import numpy as np
 from ..fem.mesh import Mesh
 from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, load_path
-from ..loadpath.continuation import Notice
+from ..loadpath.continuation import Notice, Returning
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
 from ..model import cost
 from ..model.build import build_model, cap_mesh_spec
@@ -87,11 +87,8 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
 
 def _observe(path, observers: Sequence[Observer]) -> PathEnd:
     """Feed every step of ``path`` to the observers until the path ends or one of them stops it."""
-    while True:
-        try:
-            step = next(path)
-        except StopIteration as done:
-            return done.value
+    run = Returning(path)
+    for step in run:
         if isinstance(step, Notice):
             for obs in observers:
                 obs.notice(step)
@@ -101,3 +98,4 @@ def _observe(path, observers: Sequence[Observer]) -> PathEnd:
             if stop is not None:
                 path.close()
                 return PathEnd(stop.status, stop.reason, step.x, *step.state.totals(), step.state.leg)
+    return run.value

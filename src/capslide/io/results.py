@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import datetime
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +26,7 @@ from ..states import Phase, SlipState, flag_attributes
 from ..version import software_version
 from .atomic import replacing
 
-__all__ = ["CONVENTIONS", "Scales", "quantity", "global_attrs", "write_netcdf", "mesh_dataset", "case_dataset",
+__all__ = ["CONVENTIONS", "scaled_units", "quantity", "global_attrs", "write_netcdf", "mesh_dataset", "case_dataset",
            "STEP_VARIABLES", "CASE_SCALARS", "PROFILES"]
 
 CONVENTIONS = "CF-1.10"
@@ -38,25 +37,10 @@ CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
 PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state")
 
 
-@dataclass(frozen=True)
-class Scales:
-    """The normalization of a case: unit of stress E (Pa) and of length L0 (m)."""
-
-    E: float
-    L0: float
-
-    @property
-    def length(self) -> str:
-        return f"{self.L0:g} m"
-
-    @property
-    def stress(self) -> str:
-        return f"{self.E:g} Pa"
-
-    @property
-    def force(self) -> str:
-        """Force per unit out-of-plane width, E L0 (plane strain, W = 1)."""
-        return f"{self.E * self.L0:g} N/m"
+def scaled_units(E: float, L0: float) -> dict[str, str]:
+    """UDUNITS strings of the internal units: length L0 (m), stress E (Pa), force per unit out-of-plane width
+    E L0 (N/m; plane strain, W = 1)."""
+    return {"length": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m"}
 
 
 def quantity(long_name: str, units: str, normalization: str | None = None) -> dict:
@@ -112,7 +96,7 @@ def _index(name: str) -> dict:
 def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: str | None = None) -> xr.Dataset:
     """The mesh as a dataset: node positions (coordinates), cells, base nodes and top-surface segments."""
     L0 = float(config["geometry"]["L0"]) if config is not None else 1.0e-6
-    length = f"{L0:g} m"
+    length = scaled_units(1.0, L0)["length"]
     order = mesh.surface_segments.shape[1] - 1
     ds = xr.Dataset(
         {
@@ -142,19 +126,19 @@ def _surface_X(mesh: Mesh, n_gauss: int) -> np.ndarray:
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
     """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md)."""
     p, recs, mesh = result.params, result.records, result.mesh
-    u = Scales(p.units.E, p.units.L0)
+    u = scaled_units(p.units.E, p.units.L0)
     step = lambda name, dt=float: np.array([getattr(r, name) for r in recs], dtype=dt)  # noqa: E731
     n_pts = len(recs[0].gap) if recs else 0
     prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
                                    if recs else np.zeros((0, n_pts), dtype=dt))
     on_step = {
-        "Fn": quantity("normal contact force on the cap, positive = tensile", u.force, "E L0 W"),
-        "Ft": quantity("tangential contact force on the cap, positive in the sliding direction", u.force, "E L0 W"),
-        "area": quantity(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0", u.length, "L0"),
-        "area_compressive": quantity("current length where Tn >= 0 (compressive)", u.length, "L0"),
-        "area_stick": quantity("current length of sticking points in contact", u.length, "L0"),
-        "x_left": quantity("current x of the left (trailing) contact edge", u.length, "L0"),
-        "x_right": quantity("current x of the right (leading) contact edge", u.length, "L0"),
+        "Fn": quantity("normal contact force on the cap, positive = tensile", u["force"], "E L0 W"),
+        "Ft": quantity("tangential contact force on the cap, positive in the sliding direction", u["force"], "E L0 W"),
+        "area": quantity(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0", u["length"], "L0"),
+        "area_compressive": quantity("current length where Tn >= 0 (compressive)", u["length"], "L0"),
+        "area_stick": quantity("current length of sticking points in contact", u["length"], "L0"),
+        "x_left": quantity("current x of the left (trailing) contact edge", u["length"], "L0"),
+        "x_right": quantity("current x of the right (leading) contact edge", u["length"], "L0"),
     }
     data = {name: ("step", step(name), attrs) for name, attrs in on_step.items()}
     data.update({
@@ -163,32 +147,32 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "wall_time": ("step", step("wall_time"), quantity("wall time of the step", "s")),
         "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float),
                          quantity("x force of the clamped base on the cap; force balance: Ft + base_force_x = 0",
-                                  u.force, "E L0 W")),
+                                  u["force"], "E L0 W")),
         "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float),
                          quantity("y force of the clamped base on the cap; force balance: Fn + base_force_y = 0",
-                                  u.force, "E L0 W")),
+                                  u["force"], "E L0 W")),
     })
     if p.config["output"]["surface_profiles"]:
         data.update({
             "x_current": (("step", "surface_point"), prof("x_surface"), quantity("current x of the surface point",
-                                                                                 u.length, "L0")),
+                                                                                 u["length"], "L0")),
             "y_current": (("step", "surface_point"), prof("y_surface"), quantity("current y of the surface point",
-                                                                                 u.length, "L0")),
-            "gap": (("step", "surface_point"), prof("gap"), quantity("normal gap g_n", u.length, "L0")),
+                                                                                 u["length"], "L0")),
+            "gap": (("step", "surface_point"), prof("gap"), quantity("normal gap g_n", u["length"], "L0")),
             "traction_n": (("step", "surface_point"), prof("traction_n"),
-                           quantity("normal traction Tn per reference area, positive = repulsive", u.stress, "E")),
+                           quantity("normal traction Tn per reference area, positive = repulsive", u["stress"], "E")),
             "traction_t": (("step", "surface_point"), prof("traction_t"),
-                           quantity("tangential traction on the cap per reference area, positive = +x", u.stress, "E")),
+                           quantity("tangential traction on the cap per reference area, positive = +x", u["stress"], "E")),
             "slip_state": (("step", "surface_point"), prof("slip_state", np.int8),
                            flag_attributes(SlipState, "friction state of the surface point")),
         })
     s = result.scalars
     data.update({
-        "peak_Ft": ((), s["peak_Ft"], quantity("largest |Ft| while sliding (signed)", u.force, "E L0 W")),
-        "onset_ubar": ((), s["onset_ubar"], quantity("ubar at the onset of full sliding (NaN: not reached)", u.length,
+        "peak_Ft": ((), s["peak_Ft"], quantity("largest |Ft| while sliding (signed)", u["force"], "E L0 W")),
+        "onset_ubar": ((), s["onset_ubar"], quantity("ubar at the onset of full sliding (NaN: not reached)", u["length"],
                                                      "L0")),
-        "onset_Ft": ((), s["onset_Ft"], quantity("Ft at the onset of full sliding", u.force, "E L0 W")),
-        "onset_area": ((), s["onset_area"], quantity("contact area at the onset of full sliding", u.length, "L0")),
+        "onset_Ft": ((), s["onset_Ft"], quantity("Ft at the onset of full sliding", u["force"], "E L0 W")),
+        "onset_area": ((), s["onset_area"], quantity("contact area at the onset of full sliding", u["length"], "L0")),
     })
     snaps = result.snapshots
     k, nn, nc = len(snaps), mesh.n_nodes, mesh.n_cells
@@ -196,23 +180,23 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64),
                        quantity("node ids of the cell (Q1: counter-clockwise; Q2: corners, mid-edges, centre)", "1")),
         "u_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 0] for sn in snaps]).reshape(k, nn),
-                   quantity("x displacement of the node", u.length, "L0")),
+                   quantity("x displacement of the node", u["length"], "L0")),
         "v_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 1] for sn in snaps]).reshape(k, nn),
-                   quantity("y displacement of the node", u.length, "L0")),
+                   quantity("y displacement of the node", u["length"], "L0")),
         "I1_sigma": (("snapshot_ubar", "cell"), np.array([sn.I1_sigma for sn in snaps]).reshape(k, nc),
-                     quantity("first invariant of the Cauchy stress (with sigma_zz), cell average", u.stress, "E")),
+                     quantity("first invariant of the Cauchy stress (with sigma_zz), cell average", u["stress"], "E")),
     })
     coords = {
         "step": ("step", np.arange(len(recs), dtype=np.int32), quantity("converged load step", "1")),
         "phase": ("step", step("phase", np.int8), flag_attributes(Phase, "load phase")),
-        "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u.length, "L0")),
-        "h": ("step", step("h"), quantity("height of the substrate's lower face above the base", u.length, "L0")),
+        "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u["length"], "L0")),
+        "h": ("step", step("h"), quantity("height of the substrate's lower face above the base", u["length"], "L0")),
         "X_reference": ("surface_point", _surface_X(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
-                        quantity("reference x of the surface Gauss point", u.length, "L0")),
+                        quantity("reference x of the surface Gauss point", u["length"], "L0")),
         "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
-                          quantity("ubar of the field snapshot", u.length, "L0")),
-        "X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", u.length, "L0")),
-        "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u.length, "L0")),
+                          quantity("ubar of the field snapshot", u["length"], "L0")),
+        "X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", u["length"], "L0")),
+        "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u["length"], "L0")),
     }
     ds = xr.Dataset({name: xr.Variable(*v) for name, v in data.items()},
                     coords={name: xr.Variable(*v) for name, v in coords.items()})

@@ -30,7 +30,7 @@ from ..fem.mesh import H0_AT_SIZE_1
 from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
 from ..model.system import CapModel, History
 from ..states import Phase, Status
-from .continuation import Converged, Leg, LegEnd, Loop, Notice, StepControl, continuation
+from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
@@ -156,11 +156,8 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
          after: str) -> Generator[PathStep | Notice, None, LegEnd]:
     """Relay the continuation's steps as path steps (notices as they are); on completion the state moves on to the
     leg ``after``."""
-    while True:
-        try:
-            conv = next(steps)
-        except StopIteration as done:
-            return done.value
+    run = Returning(steps)
+    for conv in run:
         if isinstance(conv, Notice):
             yield conv
             continue
@@ -171,6 +168,7 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
             _finish_leg(model, state, after)
         yield PathStep(conv.record, conv.x, conv.breakpoint, state,
                        last=conv.end is not None and conv.end.status != Status.COMPLETED)
+    return run.value
 
 
 def _finish_leg(model: CapModel, state: PathState, after: str) -> None:

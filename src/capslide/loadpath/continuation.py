@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Generator, Iterator
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,7 +24,7 @@ from ..states import Phase, Status
 from .measures import StepRecord, measure
 
 __all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "Notice", "newton_options", "solve_constrained", "continuation",
-           "drain"]
+           "Returning", "drain"]
 
 
 @dataclass(frozen=True)
@@ -177,13 +177,22 @@ def continuation(model: CapModel, loop: Loop, history: History,
     return LegEnd(Status.COMPLETED)
 
 
-def drain(steps: Iterator, observe: Callable[[object], None] | None = None):
+class Returning:
+    """A generator of steps to loop over with ``for``; once the loop has run out, ``value`` is what the generator
+    returned (its end)."""
+
+    def __init__(self, steps: Generator):
+        self.steps, self.value = steps, None
+
+    def __iter__(self):
+        self.value = yield from self.steps
+
+
+def drain(steps: Generator, observe: Callable[[object], None] | None = None):
     """Run a generator of steps to its end, calling ``observe(step)`` on each step (notices skipped); its return
     value."""
-    while True:
-        try:
-            step = next(steps)
-        except StopIteration as done:
-            return done.value
+    run = Returning(steps)
+    for step in run:
         if observe is not None and not isinstance(step, Notice):
             observe(step)
+    return run.value
