@@ -26,8 +26,6 @@ from .config import load_config as _load_config
 from .driver.case import run_case
 from .io.reading import open_result
 from .io.results import case_dataset
-from .model import cost
-from .model.build import cap_mesh_spec
 from .params import Parameters
 
 __all__ = ["load_config", "run", "open_case", "open_cases", "config_of"]
@@ -46,10 +44,10 @@ def run(config: Mapping[str, Any], progress: bool = False) -> xr.Dataset:
     """Run one case of a validated configuration; its dataset in the layout of a case file (docs/data.md).
 
     ``progress=True`` shows a progress bar on a terminal (one line per step elsewhere). A case beyond ``limits``
-    (mesh size, memory, steps) raises :class:`capslide.config.ConfigError` before anything is computed.
+    (mesh size, memory, steps) raises :class:`capslide.config.ConfigError` before anything is computed (the case
+    driver checks it).
     """
     params = Parameters.from_config(config)
-    cost.check(params, cap_mesh_spec(params))
     observers = []
     if progress:
         from .cli.progress import ProgressDisplay
