@@ -159,8 +159,9 @@ def fig_cap_PxOverAc(cases, tau_DI: float | None = None):
     ax.add_artist(first)
     keys = [Line2D([], [], ls="none", marker=marker[f], color="0.3", ms=3.5, label=fr"$F_\mathrm{{n}}^* = {f:+.3g}$")
             for f in preloads]
-    ax.legend(handles=keys, loc="upper left", fontsize=5.5, title="preload (filled: start, open: onset)",
-              title_fontsize=5.5)
+    # right of the tau A line, above the models' key: the one region no curve of the study crosses
+    ax.legend(handles=keys, loc="lower right", bbox_to_anchor=(1.0, 0.27), fontsize=5.5,
+              title="preload (filled: start,\nopen: onset)", title_fontsize=5.5)
     fig.tight_layout()
     return fig
 
