@@ -28,3 +28,17 @@ def test_two_writers_of_one_file_do_not_share_a_temporary(tmp_path):
         second.write_text("second")
     assert target.read_text() == "first"  # the outer block ends last
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o.nc"]
+
+
+def test_a_written_file_has_the_permissions_of_a_new_file(tmp_path):
+    """Result files are shared (a group's results directory): readable as a plainly created file, not private."""
+    import os
+
+    old = os.umask(0o022)
+    try:
+        with replacing(tmp_path / "case.nc") as tmp:
+            tmp.write_text("x")
+        (tmp_path / "plain.txt").write_text("x")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "case.nc").stat().st_mode & 0o777 == (tmp_path / "plain.txt").stat().st_mode & 0o777 == 0o644

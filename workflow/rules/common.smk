@@ -15,7 +15,7 @@ from capslide.config import (
     retyped,
     validate,
 )
-from capslide.studies.expansion import check_runs, runs
+from capslide.studies.expansion import check_runs, runs, shares_normal_state
 from snakemake.exceptions import WorkflowError
 
 # --config NAME=VALUE of this run (Snakemake reads nested values as strings): typed again, applied here, and passed

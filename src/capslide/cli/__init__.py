@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from ..config import ConfigError
 from ..io.reading import ResultFileError
 from ..version import __version__
-from .cases import cmd_collect, cmd_config, cmd_constants, cmd_inspect, cmd_mesh, cmd_run, cmd_vtk
+from .cases import cmd_collect, cmd_config, cmd_constants, cmd_inspect, cmd_mesh, cmd_preload, cmd_run, cmd_vtk
 from .common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, InputError, add_config_args
 from .figures import FIGURE_HELP, cmd_figure
 from .studies import cmd_convergence, cmd_pull_off, cmd_stability, cmd_verify
@@ -64,7 +64,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
     p.add_argument("--resume", action="store_true",
                    help="continue from the checkpoint a killed run left beside CASE.nc (output.checkpoint_every)")
+    p.add_argument("--from-state", metavar="STATE.npz",
+                   help="start the slide from this normal state (capslide preload) instead of approaching and "
+                        "preloading again; it must be computed for this configuration but its slide-only keys")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("preload", help="approach and preload the cap, write the normal state every slide of it starts from")
+    add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="STATE.npz", help="the normal state file to write")
+    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
+    p.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint a killed run left beside STATE.npz (output.checkpoint_every)")
+    p.add_argument("--from-state", metavar="STATE.npz",
+                   help="a tensile preload: go on from this normal state at loading.retract_from (same configuration "
+                        "but the preload) when the path passes through it")
+    p.set_defaults(func=cmd_preload)
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
     add_config_args(p)

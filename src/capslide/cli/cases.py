@@ -15,7 +15,7 @@ from ..io.reading import kind_of, open_result
 from .common import EXIT_STATUS, InputError, check_outputs, command_line, parameters
 from .progress import ProgressDisplay
 
-__all__ = ["cmd_config", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_collect", "cmd_inspect",
+__all__ = ["cmd_config", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_preload", "cmd_collect", "cmd_inspect",
            "cmd_vtk"]
 
 # Test hook: after this many converged steps, capslide run sends SIGINT (or the signal named by
@@ -65,22 +65,17 @@ def cmd_mesh(args) -> int:
     return 0
 
 
-def cmd_run(args) -> int:
-    """Run one case end to end and write its netCDF file (also when it fails)."""
+def _run_checkpointed(params, output: Path, args, start=None, stop_before: str = "done"):
+    """Run a case (from ``start``, a saved path, when there is no usable checkpoint) with checkpoints beside
+    ``output`` (``--resume`` continues one), progress and the interrupt test hook; the case result."""
     from ..driver.case import run_case
     from ..io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWriter, checkpoint_path, config_text, load_checkpoint
-    from ..io.results import case_dataset, write_netcdf
-    from ..model import cost
-    from ..model.build import cap_mesh_spec
 
-    params = parameters(args)
-    (output,) = check_outputs([args.output], {"nc"})
-    cost.check(params, cap_mesh_spec(params))  # before anything is written
     output.parent.mkdir(parents=True, exist_ok=True)
     every = int(params.config["output"]["checkpoint_every"])
     path = checkpoint_path(output)
     text = config_text(params.config)
-    saved = writer = None
+    saved, writer = start, None
     if args.resume and path.exists():
         try:
             saved = load_checkpoint(path, text)
@@ -97,10 +92,34 @@ def cmd_run(args) -> int:
         signum = signal.Signals[f"SIG{os.environ.get(INTERRUPT_SIGNAL, 'INT')}"]
         interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)
         observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), interrupt))
-    result = run_case(params, observers=observers, checkpoint=writer, resume=saved)
+    result = run_case(params, observers=observers, checkpoint=writer, resume=saved, stop_before=stop_before)
     for obs in observers:
         if isinstance(obs, ProgressDisplay):
             obs.close()
+    return result, writer
+
+
+def _normal_state(path: str, config, ignore=()):
+    """The normal state file ``path`` for ``config`` (InputError, one line, when it cannot be used)."""
+    from ..io.normal_state import NormalStateError, read_normal_state
+
+    try:
+        return read_normal_state(path, config, ignore)
+    except NormalStateError as err:
+        raise InputError(str(err)) from None
+
+
+def cmd_run(args) -> int:
+    """Run one case end to end and write its netCDF file (also when it fails)."""
+    from ..io.results import case_dataset, write_netcdf
+    from ..model import cost
+    from ..model.build import cap_mesh_spec
+
+    params = parameters(args)
+    (output,) = check_outputs([args.output], {"nc"})
+    cost.check(params, cap_mesh_spec(params))  # before anything is written
+    start = _normal_state(args.from_state, params.config) if args.from_state else None
+    result, writer = _run_checkpointed(params, output, args, start)
     write_netcdf(case_dataset(result, history=command_line()), output)
     if writer is not None:
         writer.remove()
@@ -108,6 +127,50 @@ def cmd_run(args) -> int:
     print(f"{output}: {result.status.label}{' (' + result.reason + ')' if result.reason else ''}; "
           f"{len(result.records)} steps, {result.wall_time:.1f} s; peak Ft = {s['peak_Ft']:.6g}, "
           f"onset ubar = {s['onset_ubar']:.6g}")
+    return EXIT_STATUS[result.status]
+
+
+def _retraction_start(params, path: str):
+    """The path of ``params`` continued from the normal state ``path``, computed for the same configuration
+    preloaded to ``loading.retract_from``; None (with a notice) when this preload is not reached through it."""
+    from dataclasses import replace
+
+    from ..config import apply_settings
+    from ..loadpath.cap import retraction_from
+    from ..states import Phase
+
+    config = apply_settings(params.config, {"loading.preload": params.loading.retract_from})
+    saved = _normal_state(path, config)
+    approached = [r.Fn for r in saved.records if r.phase in (Phase.APPROACH, Phase.SPREAD)]
+    state = None
+    if saved.ended is None and approached:
+        state = retraction_from(params.loading, saved.state, approached[-1])
+    if state is None:
+        print(f"capslide: the path to this preload does not pass through '{path}'; starting afresh", file=sys.stderr)
+        return None
+    return replace(saved, state=state)
+
+
+def cmd_preload(args) -> int:
+    """Approach and preload a configuration's cap, write its normal state (the start of every slide of it)."""
+    from ..io.checkpoint import SavedCase
+    from ..io.normal_state import write_normal_state
+    from ..model import cost
+    from ..model.build import cap_mesh_spec
+    from ..states import Status
+
+    params = parameters(args)
+    (output,) = check_outputs([args.output], {"npz"})
+    cost.check(params, cap_mesh_spec(params))
+    start = _retraction_start(params, args.from_state) if args.from_state else None
+    result, writer = _run_checkpointed(params, output, args, start, stop_before="slide")
+    ended = None if result.status == Status.COMPLETED else (result.status, result.reason)
+    write_normal_state(output, SavedCase(result.state, result.records, [], result.wall_time, ended), params.config)
+    if writer is not None:
+        writer.remove()
+    Fn = result.records[-1].Fn if result.records else float("nan")
+    print(f"{output}: {result.status.label}{' (' + result.reason + ')' if result.reason else ''}; "
+          f"{len(result.records)} steps, {result.wall_time:.1f} s; Fn* = {Fn:.6g}")
     return EXIT_STATUS[result.status]
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..fem.mesh import Mesh
 from ..io.checkpoint import CheckpointWriter, SavedCase
-from ..loadpath.cap import PathEnd, load_path
+from ..loadpath.cap import PathEnd, PathState, initial_state, load_path
 from ..loadpath.continuation import Notice, Returning
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
 from ..model import cost
@@ -39,6 +39,7 @@ class CaseResult:
     min_step: float = float("nan")
     wall_time: float = 0.0
     final_x: np.ndarray | None = None  # last converged [u, h]
+    state: PathState | None = None  # where the path stands at the end (load_path(start=state) goes on)
 
 
 def snapshot_positions(params: Parameters) -> tuple[float, ...]:
@@ -50,13 +51,15 @@ def snapshot_positions(params: Parameters) -> tuple[float, ...]:
 
 def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[Observer] = (),
              checkpoint: CheckpointWriter | None = None, checkpoint_every: int | None = None,
-             resume: SavedCase | None = None) -> CaseResult:
+             resume: SavedCase | None = None, stop_before: str = "done") -> CaseResult:
     """Run one case; failures end with a status (detached, diverged) and the last converged state.
 
     ``observers`` see every converged step (progress, for example). With a ``checkpoint`` writer the case is saved
-    every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case.
-    A configuration beyond ``limits`` is refused before anything is computed (ConfigError, see
-    :mod:`capslide.model.cost`), and a case that takes more than ``limits.max_steps`` steps ends diverged.
+    every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case (a
+    checkpoint, or a normal state: a saved path that ended there ends the case the same way). The path stops
+    before the leg ``stop_before`` (``"slide"``: a normal state). A configuration beyond ``limits`` is refused
+    before anything is computed (ConfigError, see :mod:`capslide.model.cost`), and a case that takes more than
+    ``limits.max_steps`` steps ends diverged.
     """
     if mesh is None:
         estimate = cost.check(params, cap_mesh_spec(params))
@@ -69,7 +72,8 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     records = list(resume.records) if resume is not None else []
     snapshots = list(resume.snapshots) if resume is not None else []
     clock = Clock(resume.elapsed if resume is not None else 0.0)
-    watching: list[Observer] = [Recorder(records), Snapshots(model, wanted, snapshots), *observers,
+    snapshot_taker = Snapshots(model, wanted, snapshots)
+    watching: list[Observer] = [Recorder(records), snapshot_taker, *observers,
                                 PeelOff(records, params.loading.preload),
                                 StepBudget(records, params.config["limits"]["max_steps"])]
     if params.loading.stop_at_onset:
@@ -77,12 +81,16 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     if checkpoint is not None:
         every = params.config["output"]["checkpoint_every"] if checkpoint_every is None else checkpoint_every
         watching.append(Checkpointing(checkpoint, every, model, records, snapshots, clock))
-    path = load_path(model, wanted, start=resume.state if resume is not None else None)
-    end = _observe(path, watching)
+    state = resume.state if resume is not None else initial_state(model)
+    if resume is not None and resume.ended is not None:
+        end = PathEnd(*resume.ended, state.x, *state.totals(), state.leg)
+    else:
+        snapshot_taker.begin(state)
+        end = _observe(load_path(model, wanted, start=state, stop_before=stop_before), watching)
     for obs in watching:
         end = obs.end(end)
     return CaseResult(params, model.mesh, records, end.status, end.reason, sliding_onset(records), snapshots,
-                      end.cutbacks, end.min_step, clock(), end.x)
+                      end.cutbacks, end.min_step, clock(), end.x, state)
 
 
 def _observe(path, observers: Sequence[Observer]) -> PathEnd:

@@ -11,7 +11,7 @@ import time
 from dataclasses import dataclass
 
 from ..io.checkpoint import CheckpointWriter, SavedCase
-from ..loadpath.cap import PathEnd, PathStep
+from ..loadpath.cap import PathEnd, PathState, PathStep
 from ..loadpath.continuation import Notice
 from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
 from ..model.system import CapModel
@@ -57,6 +57,12 @@ class Snapshots(Observer):
     def __init__(self, model: CapModel, wanted, snapshots: list[Snapshot]):
         self.model, self.snapshots = model, snapshots
         self.at_start = any(b == 0.0 for b in wanted)
+
+    def begin(self, state: PathState) -> None:
+        """A path that starts where the slide starts (a normal state) is taken there, unless it was already."""
+        if (self.at_start and state.leg == "slide" and state.loop is None
+                and not any(sn.ubar == 0.0 for sn in self.snapshots)):
+            self.snapshots.append(field_snapshot(self.model, state.x, 0.0))
 
     def step(self, step):
         state = step.state
@@ -138,15 +144,10 @@ class Checkpointing(Observer):
                  snapshots: list[Snapshot], clock: Clock):
         self.writer, self.every, self.model = writer, every, model
         self.records, self.snapshots, self.clock = records, snapshots, clock
-        self._since = 0
 
     def step(self, step):
-        if not self.every or step.last:
-            return None
-        self._since += 1
-        if self._since < self.every:
-            return None
-        self._since = 0
+        if not self.every or step.last or len(self.records) % self.every:
+            return None  # saves at every multiple of ``every`` converged steps of the case, however it started
         self.model.solver.invalidate()
         self.writer.save(SavedCase(step.state, self.records, self.snapshots, self.clock()))
         return None

@@ -15,10 +15,16 @@ from pathlib import Path
 __all__ = ["replacing"]
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def replacing(path: str | Path) -> Iterator[Path]:
     """Yield a fresh temporary path beside ``path`` to write to; rename it onto ``path`` when the block ends
-    normally, remove it when it raises."""
+    normally (with the permissions of a new file under the umask), remove it when it raises."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -26,6 +32,7 @@ def replacing(path: str | Path) -> Iterator[Path]:
     tmp = Path(name)
     try:
         yield tmp
+        os.chmod(tmp, 0o666 & ~_umask())  # as open() would have made it (mkstemp makes it private)
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)

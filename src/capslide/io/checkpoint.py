@@ -34,12 +34,13 @@ from ..loadpath.cap import Mark, PathState
 from ..loadpath.continuation import Loop
 from ..loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, Snapshot, StepRecord
 from ..model.system import History
-from ..states import Phase
+from ..states import Phase, Status
 from ..version import software_version
 from .atomic import replacing
 
 __all__ = ["SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
-           "load_checkpoint"]
+           "load_checkpoint", "write_arrays", "read_arrays", "array_sha", "record_arrays", "records_of", "state_arrays",
+           "path_state"]
 
 STATE = "state.npz"
 
@@ -60,6 +61,7 @@ class SavedCase:
     records: list[StepRecord]
     snapshots: list[Snapshot]
     elapsed: float  # wall time of the case before this process (s)
+    ended: tuple[Status, str] | None = None  # a path that ended there (a failed preload): status and reason
 
 
 def checkpoint_path(output: str | Path) -> Path:
@@ -73,35 +75,36 @@ def config_text(config) -> str:
     return yaml.safe_dump(dict(config), sort_keys=True)
 
 
-def _sha(*arrays: np.ndarray) -> str:
+def array_sha(*arrays: np.ndarray) -> str:
+    """SHA-256 of the arrays' bytes, in the order given."""
     h = hashlib.sha256()
     for a in arrays:
         h.update(np.ascontiguousarray(a).tobytes())
     return h.hexdigest()
 
 
-def _write_npz(path: Path, arrays: dict[str, np.ndarray]) -> str:
+def write_arrays(path: Path, arrays: dict[str, np.ndarray]) -> str:
     """Write arrays atomically; the SHA-256 of their bytes (in name order)."""
     with replacing(path) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **arrays)
-    return _sha(*(arrays[k] for k in sorted(arrays)))
+    return array_sha(*(arrays[k] for k in sorted(arrays)))
 
 
-def _read_npz(path: Path, sha: str | None = None) -> dict[str, np.ndarray]:
+def read_arrays(path: Path, sha: str | None = None) -> dict[str, np.ndarray]:
     with np.load(path, allow_pickle=False) as archive:
         data = {name: archive[name] for name in archive.files}
-    if sha is not None and _sha(*(data[k] for k in sorted(data))) != sha:
+    if sha is not None and array_sha(*(data[k] for k in sorted(data))) != sha:
         raise CheckpointError(f"checkpoint file '{path}' does not match its checksum")
     return data
 
 
-def _record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
+def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
     out = {name: np.array([getattr(r, name) for r in records], dtype=float) for name in RECORD_SCALARS}
     out.update({name: np.array([getattr(r, name) for r in records]) for name in RECORD_PROFILES})
     return out
 
 
-def _records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
+def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
     out = []
     for i in range(len(data["phase"])):
         kw = {name: float(data[name][i]) for name in RECORD_SCALARS}
@@ -111,6 +114,33 @@ def _records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
         kw.update({name: data[name][i] for name in RECORD_PROFILES})
         out.append(StepRecord(**kw))
     return out
+
+
+def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
+    """A path state as arrays (current state, loop states, anchors) and JSON-able header entries."""
+    arrays = {"x": s.x}
+    if s.loop is not None:
+        arrays["loop_x"] = s.loop.x
+        if s.loop.x_prev is not None:
+            arrays["loop_x_prev"] = s.loop.x_prev
+    if s.history.anchors is not None:
+        arrays["anchors"] = s.history.anchors
+    loop = None if s.loop is None else {
+        "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
+        "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
+    header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
+              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks], "cutbacks": s.cutbacks,
+              "smallest": s.smallest}
+    return arrays, header
+
+
+def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
+    """The path state of :func:`state_arrays`' arrays and header entries."""
+    lm = meta["loop"]
+    loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
+                                        lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
+    return PathState(meta["leg"], data["x"], History(data.get("anchors")), loop, list(meta["targets"]),
+                     [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"])
 
 
 class CheckpointWriter:
@@ -136,36 +166,24 @@ class CheckpointWriter:
 
     def _chunk(self, kind: str, arrays: dict[str, np.ndarray], count: int) -> None:
         name = f"{kind}-{self.generation}-{len(self.chunks):04d}.npz"
-        self.chunks.append({"file": name, "kind": kind, "count": count, "sha256": _write_npz(self.path / name, arrays)})
+        self.chunks.append({"file": name, "kind": kind, "count": count, "sha256": write_arrays(self.path / name, arrays)})
 
     def save(self, saved: SavedCase) -> None:
         new_records = saved.records[self.n_records:]
         if new_records:
-            self._chunk("records", _record_arrays(new_records), len(new_records))
+            self._chunk("records", record_arrays(new_records), len(new_records))
         new_snaps = saved.snapshots[self.n_snapshots:]
         if new_snaps:
             self._chunk("snapshots", {"ubar": np.array([sn.ubar for sn in new_snaps]),
                                       "u": np.stack([sn.u for sn in new_snaps]),
                                       "I1_sigma": np.stack([sn.I1_sigma for sn in new_snaps])}, len(new_snaps))
         self.n_records, self.n_snapshots = len(saved.records), len(saved.snapshots)
-        s = saved.state
-        arrays = {"x": s.x}
-        if s.loop is not None:
-            arrays["loop_x"] = s.loop.x
-            if s.loop.x_prev is not None:
-                arrays["loop_x_prev"] = s.loop.x_prev
-        if s.history.anchors is not None:
-            arrays["anchors"] = s.history.anchors
-        loop = None if s.loop is None else {
-            "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
-            "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
-        header = {"version": software_version(), "config_sha256": self.config_sha, "leg": s.leg, "loop": loop,
-                  "targets": list(s.targets), "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks],
-                  "cutbacks": s.cutbacks, "smallest": s.smallest, "elapsed": saved.elapsed, "chunks": self.chunks,
-                  "arrays_sha256": _sha(*(arrays[k] for k in sorted(arrays)))}
+        arrays, state = state_arrays(saved.state)
+        header = {"version": software_version(), "config_sha256": self.config_sha, **state, "elapsed": saved.elapsed,
+                  "chunks": self.chunks, "arrays_sha256": array_sha(*(arrays[k] for k in sorted(arrays)))}
         text = json.dumps(header)
         arrays.update(header=np.array(text), header_sha256=np.array(hashlib.sha256(text.encode()).hexdigest()))
-        _write_npz(self.path / STATE, arrays)
+        write_arrays(self.path / STATE, arrays)
         keep = {c["file"] for c in self.chunks} | {STATE, "lock"}
         for other in self.path.iterdir():
             if other.name not in keep and not other.name.startswith("."):  # chunks of earlier writers
@@ -191,7 +209,7 @@ class CheckpointWriter:
 def _load(path: Path, config_yaml: str) -> SavedCase:
     if not path.is_dir():
         raise CheckpointError(f"checkpoint '{path}' is not a checkpoint directory")
-    data = _read_npz(path / STATE)
+    data = read_arrays(path / STATE)
     text = str(data["header"])
     if hashlib.sha256(text.encode()).hexdigest() != str(data["header_sha256"]):
         raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
@@ -202,21 +220,16 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
     if meta.get("config_sha256") != hashlib.sha256(config_yaml.encode()).hexdigest():
         raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
     arrays = {k: v for k, v in data.items() if k not in ("header", "header_sha256")}
-    if _sha(*(arrays[k] for k in sorted(arrays))) != meta["arrays_sha256"]:
+    if array_sha(*(arrays[k] for k in sorted(arrays))) != meta["arrays_sha256"]:
         raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
     records, snapshots = [], []
     for chunk in meta["chunks"]:
-        part = _read_npz(path / chunk["file"], chunk["sha256"])
+        part = read_arrays(path / chunk["file"], chunk["sha256"])
         if chunk["kind"] == "records":
-            records += _records_of(part)
+            records += records_of(part)
         else:
             snapshots += [Snapshot(float(u), part["u"][k], part["I1_sigma"][k]) for k, u in enumerate(part["ubar"])]
-    lm = meta["loop"]
-    loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
-                                        lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
-    state = PathState(meta["leg"], data["x"], History(data.get("anchors")), loop, list(meta["targets"]),
-                      [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"])
-    return SavedCase(state, records, snapshots, meta["elapsed"])
+    return SavedCase(path_state(data, meta), records, snapshots, meta["elapsed"])
 
 
 def load_checkpoint(path: str | Path, config_yaml: str) -> SavedCase:

@@ -34,7 +34,8 @@ from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepC
 from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
-           "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding"]
+           "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
+           "retraction_from"]
 
 LEGS = ("approach", "spread", "preload", "slide", "slide back", "done")
 
@@ -193,12 +194,30 @@ def _current_Fn(model: CapModel, state: PathState) -> float:
     return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors)[1]
 
 
-def _preload_targets(model: CapModel, state: PathState) -> list[float]:
-    """The preload, reached through ``retract_from`` when it is tensile beyond the approach's end force."""
-    L = model.params.loading
-    if L.preload > 0.0 and L.retract_from < min(_current_Fn(model, state), L.preload):
+def preload_targets(loading, Fn_approached: float) -> list[float]:
+    """The preload targets after an approach that ended at ``Fn_approached``: the preload, reached through
+    ``retract_from`` when it is tensile beyond the approach's end force."""
+    L = loading
+    if L.preload > 0.0 and L.retract_from < min(Fn_approached, L.preload):
         return [L.retract_from, L.preload]
     return [L.preload]
+
+
+def _preload_targets(model: CapModel, state: PathState) -> list[float]:
+    return preload_targets(model.params.loading, _current_Fn(model, state))
+
+
+def retraction_from(loading, preloaded: PathState, Fn_approached: float) -> PathState | None:
+    """The path to ``loading.preload`` continued from ``preloaded``, a path preloaded to ``loading.retract_from``
+    whose approach ended at ``Fn_approached``, when the path passes through it (a tensile preload reached by
+    retraction); None otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
+    targets = preload_targets(loading, Fn_approached)
+    if len(targets) < 2 or preloaded.loop is not None or preloaded.targets or preloaded.leg not in ("slide", "done"):
+        return None
+    if not preloaded.marks or preloaded.marks[-1].phase != Phase.PRELOAD:
+        return None
+    return PathState("preload", preloaded.x, preloaded.history, None, targets[1:], list(preloaded.marks),
+                     preloaded.cutbacks, preloaded.smallest)
 
 
 def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
@@ -278,6 +297,8 @@ def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
     how the path ended."""
     state = start if start is not None else initial_state(model)
     while state.leg not in (stop_before, "done"):
+        if state.loop is None:  # every leg starts with a fresh factorization: a leg repeats the same arithmetic
+            model.solver.invalidate()  # whether the path ran up to it or starts there from a saved state
         end = yield from _LEG_RUNNERS[state.leg](model, state, snapshot_ubar)
         if end.status != Status.COMPLETED:
             return PathEnd(end.status, end.reason, state.x, *state.totals(), state.leg)

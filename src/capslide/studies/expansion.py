@@ -18,9 +18,10 @@ from typing import Any
 import yaml
 
 from ..config import ConfigError, apply_settings, check_finite, check_schema, load_yaml, merge, schema, validate
+from ..io.normal_state import slide_only
 from . import convergence
 
-__all__ = ["KINDS", "runs", "case_name", "check_runs"]
+__all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
 
 KINDS = ("study", "stability", "convergence")
 
@@ -54,6 +55,12 @@ def _study_runs(spec: Mapping) -> dict[str, dict]:
                 seen[name] = float(preload)
                 out[name] = {**sets, "loading.preload": float(preload), **({"loading.stop_at_onset": True} if onset else {})}
     return out
+
+
+def shares_normal_state(overrides: Mapping[str, Any]) -> bool:
+    """Whether a run of a study (the common config plus ``overrides``) can start from the normal state of the
+    common config at its ``loading.preload``: every other override acts only from the slide on."""
+    return all(slide_only(key) for key in overrides if key != "loading.preload")
 
 
 def _stability_runs(spec: Mapping) -> dict[str, dict]:

@@ -1,0 +1,127 @@
+"""Normal states: a cap approached and preloaded, saved once and slid by every friction model (issue 19).
+
+Friction acts from the slide on (DESIGN section 5): the approach and the preload of a case depend on its
+configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that differ only in those keys share
+them. A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
+(:class:`capslide.loadpath.cap.PathState`), the step records up to there, the wall time spent, how the path ended
+when the preload failed, and the *normal configuration* it was computed for (:func:`normal_config`): the
+configuration without the slide-only keys, plus whether a friction law is set at all (points in contact report
+sticking under a law before the slide, slipping without one). A case starts from the file only when its own
+normal configuration is the same; otherwise :func:`read_normal_state` names the first key that differs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import zipfile
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..config import flatten
+from ..states import Status
+from ..version import software_version
+from .checkpoint import SavedCase, array_sha, path_state, read_arrays, record_arrays, records_of, state_arrays, write_arrays
+
+__all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
+           "read_normal_state"]
+
+FORMAT = "capslide normal state 1"
+
+# dotted keys (or sections, ending in '.') that act from the slide on: they change nothing before it
+SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "loading.min_slide_step",
+              "loading.slide_back", "loading.stop_at_onset", "output.snapshot_ubar", "study.")
+
+
+class NormalStateError(ValueError):
+    """A normal state file that this case cannot start from (the message says why, in one line)."""
+
+
+def slide_only(key: str) -> bool:
+    """Whether the dotted configuration ``key`` acts only from the slide on."""
+    return any(key.startswith(k) if k.endswith(".") else key == k for k in SLIDE_ONLY)
+
+
+def _number_as_float(value: Any) -> Any:
+    """1 and 1.0 are the same setting (YAML and --set write either)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if isinstance(value, list):
+        return [_number_as_float(v) for v in value]
+    return value
+
+
+def normal_config(config: Mapping) -> dict[str, Any]:
+    """Dotted key -> value of the configuration the approach and preload depend on (numbers as floats)."""
+    flat = flatten(config)
+    out = {k: _number_as_float(v) for k, v in flat.items() if not slide_only(k)}
+    out["friction.acts"] = flat.get("friction.model", "DI") != "none"
+    return out
+
+
+def _text(normal: Mapping[str, Any]) -> str:
+    return json.dumps(normal, sort_keys=True)
+
+
+def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> None:
+    """Write the normal state ``saved`` (records, path state, wall time, ``ended``) computed for ``config``."""
+    arrays, state = state_arrays(saved.state)
+    arrays.update({f"record_{k}": v for k, v in record_arrays(saved.records).items()})
+    status, reason = saved.ended if saved.ended is not None else (Status.COMPLETED, "")
+    header = {"format": FORMAT, "version": software_version(), "normal_config": _text(normal_config(config)),
+              **state, "elapsed": saved.elapsed, "status": int(status), "reason": reason,
+              "arrays_sha256": array_sha(*(arrays[k] for k in sorted(arrays)))}
+    text = json.dumps(header)
+    arrays.update(header=np.array(text), header_sha256=np.array(hashlib.sha256(text.encode()).hexdigest()))
+    write_arrays(Path(path), arrays)
+
+
+def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
+    for key in sorted(set(saved) | set(own)):
+        if saved.get(key) != own.get(key):
+            return f"{key} = {saved.get(key)!r} there, {own.get(key)!r} here"
+    return "none"
+
+
+def _load(path: Path, config: Mapping, ignore: Iterable[str]) -> SavedCase:
+    data = read_arrays(path)
+    text = str(data.pop("header"))
+    if hashlib.sha256(text.encode()).hexdigest() != str(data.pop("header_sha256")):
+        raise NormalStateError(f"normal state '{path}' does not match its checksum")
+    meta = json.loads(text)
+    if meta.get("format") != FORMAT:
+        raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
+    if meta["version"] != software_version():
+        raise NormalStateError(f"normal state '{path}' was written by capslide {meta['version']}, "
+                               f"this is {software_version()}")
+    if array_sha(*(data[k] for k in sorted(data))) != meta["arrays_sha256"]:
+        raise NormalStateError(f"normal state '{path}' does not match its checksum")
+    theirs, own = json.loads(meta["normal_config"]), normal_config(config)
+    for key in ignore:
+        theirs.pop(key, None), own.pop(key, None)
+    if _text(theirs) != _text(own):
+        raise NormalStateError(f"normal state '{path}' was computed for another configuration "
+                               f"({_first_difference(theirs, own)})")
+    records = records_of({k.removeprefix("record_"): v for k, v in data.items() if k.startswith("record_")})
+    status = Status(meta["status"])
+    ended = None if status == Status.COMPLETED else (status, meta["reason"])
+    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended)
+
+
+def read_normal_state(path: str | Path, config: Mapping, ignore: Iterable[str] = ()) -> SavedCase:
+    """The normal state in ``path``, checked against the normal configuration of ``config`` (keys in ``ignore``
+    excepted); NormalStateError (one line) when the file is damaged, foreign or for another configuration."""
+    path = Path(path)
+    if path.is_dir():
+        raise NormalStateError(f"normal state '{path}' is a directory")
+    if not path.is_file():
+        raise NormalStateError(f"normal state '{path}' does not exist")
+    try:
+        return _load(path, config, ignore)
+    except NormalStateError:
+        raise
+    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
+        raise NormalStateError(f"cannot read normal state '{path}': {err}") from None
