@@ -1,0 +1,129 @@
+"""Speed of the reproduction (issue 19): the full workflow, one paper case against a fixed yardstick, and the
+quantities of interest of two result trees side by side.
+
+    .venv/bin/python benchmarks/speed.py reproduce --repo ../clone-a --repo ../clone-b --repeats 3
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/speed.py case
+    .venv/bin/python benchmarks/speed.py qoi ../clone-a/results/cases results/cases
+
+``reproduce`` runs ``snakemake --cores 2`` in each clone (after ``make setup`` there) with ``results/``, ``logs/``
+and ``.snakemake/`` removed before each run, the clones alternating, and prints every time and the medians.
+``case`` runs the paper case DI at Fn* = 0 (slide to 5 L0) in this process and a fixed yardstick, SuperLU on the
+5-point Laplacian of a 300 x 300 grid plus one solve (median of 5), and prints both and their ratio. ``qoi``
+prints peak Ft, the onset of full sliding (ubar, area) and Ft at ubar = 4 L0 of every case file present in both
+directories, with the largest relative difference. Nothing is asserted: the numbers are for docs/performance.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+QOIS = ("peak_Ft", "onset_ubar", "onset_area", "Ft_at_4")
+
+
+def yardstick(n: int = 300, repeats: int = 5) -> float:
+    """Median time (s) of splu of the 5-point Laplacian on an n x n grid plus one solve."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    d = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    A = (sp.kron(sp.identity(n), d) + sp.kron(d, sp.identity(n))).tocsc()
+    b = np.ones(n * n)
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        spla.splu(A).solve(b)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def cmd_case(args) -> None:
+    sys.path.insert(0, str(ROOT / "src"))
+    from capslide.config import load_config
+    from capslide.driver.case import run_case
+    from capslide.params import Parameters
+
+    params = Parameters.from_config(load_config([ROOT / "config" / "config.yaml"], args.set))
+    t = time.perf_counter()
+    result = run_case(params)
+    case = time.perf_counter() - t
+    ruler = yardstick()
+    slide = [r for r in result.records if r.phase.label == "slide"]
+    print("| case | status | steps (slide) | Newton iterations (slide) | time (s) | yardstick (s) | ratio |")
+    print("|---|---|---|---|---|---|---|")
+    print(f"| DI, Fn* = 0, {params.config['preset']} | {result.status.label} | {len(result.records)} ({len(slide)}) | "
+          f"{sum(r.newton_iterations for r in result.records)} ({sum(r.newton_iterations for r in slide)}) | "
+          f"{case:.1f} | {ruler:.3f} | {case / ruler:.0f} |")
+
+
+def qois(path: Path) -> dict[str, float]:
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        out = {name: float(ds[name]) for name in QOIS[:3]}
+        at4 = (ds["phase"].values == 2) & (ds["ubar"].values == 4.0)
+        out["Ft_at_4"] = float(ds["Ft"].values[at4][0]) if at4.any() else float("nan")
+    return out
+
+
+def cmd_qoi(args) -> None:
+    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    print("| case | " + " | ".join(QOIS) + " | largest relative difference |")
+    print("|---|" + "---|" * (len(QOIS) + 1))
+    worst_all = 0.0
+    for name in names:
+        a, b = qois(args.before / name), qois(args.after / name)
+        diffs = [abs(b[q] - a[q]) / abs(a[q]) for q in QOIS if np.isfinite(a[q]) and a[q] != 0]
+        worst = max(diffs, default=0.0)
+        worst_all = max(worst_all, worst)
+        print(f"| {name[:-3]} | " + " | ".join(f"{b[q]:.6g}" for q in QOIS) + f" | {worst:.2g} |")
+    print(f"\n{len(names)} cases; largest relative difference of a QoI: {worst_all:.2g}")
+
+
+def cmd_reproduce(args) -> None:
+    times: dict[Path, list[float]] = {repo: [] for repo in args.repo}
+    for i in range(args.repeats):
+        for repo in args.repo:
+            for name in ("results", "logs", ".snakemake"):
+                shutil.rmtree(repo / name, ignore_errors=True)
+            t = time.perf_counter()
+            extra = ["--configfile", args.configfile] if args.configfile else []
+            done = subprocess.run([str(repo / ".venv" / "bin" / "snakemake"), "--cores", "2", *extra], cwd=repo,
+                                  capture_output=True, text=True)
+            times[repo].append(time.perf_counter() - t)
+            print(f"{repo} run {i + 1}: {times[repo][-1]:.0f} s (exit {done.returncode})", flush=True)
+    print("\n| clone | runs (s) | median (s) |")
+    print("|---|---|---|")
+    for repo, ts in times.items():
+        print(f"| {repo} | {', '.join(f'{t:.0f}' for t in ts)} | {statistics.median(ts):.0f} |")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("case", help="one paper case and the yardstick, in this process")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
+    p.set_defaults(func=cmd_case)
+    p = sub.add_parser("qoi", help="QoIs of the case files in two directories")
+    p.add_argument("before", type=Path)
+    p.add_argument("after", type=Path)
+    p.set_defaults(func=cmd_qoi)
+    p = sub.add_parser("reproduce", help="snakemake --cores 2 in clones, alternating")
+    p.add_argument("--repo", type=Path, action="append", required=True)
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--configfile", help="a config overlay for every run (config/smoke.yaml: a quick check)")
+    p.set_defaults(func=cmd_reproduce)
+    args = ap.parse_args()
+    args.func(args)
+
+
+if __name__ == "__main__":
+    main()
