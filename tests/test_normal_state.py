@@ -103,12 +103,13 @@ def test_normal_configuration(paper_config):
             {"loading.stop_at_onset": True, "output.snapshot_ubar": [1.0]}]
     for sets in same:
         assert normal_config(apply_settings(config, sets)) == normal_config(config), sets
-        assert shares_normal_state({**sets, "loading.preload": 0.1})
+        assert shares_normal_state(config, {**sets, "loading.preload": 0.1})
     other = [{"friction.model": "none"}, {"mesh.size": 8.0}, {"loading.preload": 0.1}, {"loading.ubar_max": 2.0},
              {"loading.force_step": 0.01}, {"solver.linear": "direct"}, {"output.checkpoint_every": 5}]
     for sets in other:
         assert normal_config(apply_settings(config, sets)) != normal_config(config), sets
-    assert not shares_normal_state({"mesh.size": 8.0, "loading.preload": 0.1})
+    assert not shares_normal_state(config, {"mesh.size": 8.0, "loading.preload": 0.1})
+    assert not shares_normal_state(config, {"friction.model": "none"})  # a frictionless model: its own preload
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ CASE_FILES = expand(
 SHARED_PRELOADS = {
     case: f"{sets['loading.preload']:+.3f}"
     for case, sets in CASES.items()
-    if shares_normal_state(sets)
+    if shares_normal_state(config, sets)
 }
 RETRACT_FROM = f"{config['loading']['retract_from']:+.3f}"
 STATE_FILE = (

@@ -59,7 +59,8 @@ class Snapshots(Observer):
         self.at_start = any(b == 0.0 for b in wanted)
 
     def begin(self, state: PathState) -> None:
-        """A path that starts where the slide starts (a normal state) is taken there, unless it was already."""
+        """Take the snapshot at ubar = 0 now when the path starts where the slide starts (a normal state), unless
+        it was taken before (a checkpoint saved there)."""
         if (self.at_start and state.leg == "slide" and state.loop is None
                 and not any(sn.ubar == 0.0 for sn in self.snapshots)):
             self.snapshots.append(field_snapshot(self.model, state.x, 0.0))

@@ -18,7 +18,7 @@ from typing import Any
 import yaml
 
 from ..config import ConfigError, apply_settings, check_finite, check_schema, load_yaml, merge, schema, validate
-from ..io.normal_state import slide_only
+from ..io.normal_state import normal_config
 from . import convergence
 
 __all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
@@ -57,10 +57,12 @@ def _study_runs(spec: Mapping) -> dict[str, dict]:
     return out
 
 
-def shares_normal_state(overrides: Mapping[str, Any]) -> bool:
-    """Whether a run of a study (the common config plus ``overrides``) can start from the normal state of the
-    common config at its ``loading.preload``: every other override acts only from the slide on."""
-    return all(slide_only(key) for key in overrides if key != "loading.preload")
+def shares_normal_state(config: Mapping, overrides: Mapping[str, Any]) -> bool:
+    """Whether a run of a study (``config`` plus ``overrides``) can start from the normal state of ``config`` at
+    the run's ``loading.preload``: its other overrides leave the normal configuration as it is (they act only from
+    the slide on; a frictionless model does not share the state of a model with friction)."""
+    sets = {key: value for key, value in overrides.items() if key != "loading.preload"}
+    return normal_config(apply_settings(config, sets)) == normal_config(config)
 
 
 def _stability_runs(spec: Mapping) -> dict[str, dict]:
