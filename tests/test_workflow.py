@@ -74,6 +74,12 @@ def test_config_values_reach_the_runs(workdir):
                     "friction={s_cut: 0.5, eps_t: 200}")
     assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
     assert "--set preset=fast --set friction.s_cut=0.5 --set friction.eps_t=200" in res.stdout
+    # a model given on the command line: its dotted keys reach its runs as keys, not as a section that replaces
+    # the whole friction section of the config files
+    res = snakemake(workdir, "-n", "-p", "results/cases/X_Fn+0.000.nc", "--config",
+                    "study={models: {X: {friction.mu_DI: 0.5}}, preloads: [0.0]}")
+    assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
+    assert "--set friction.mu_DI=0.5 --set loading.preload=0.0" in res.stdout and "friction={" not in res.stdout
     res = snakemake(workdir, "-n", "--config", "friction={s_cut: .nan}")
     assert res.returncode != 0 and "config error: friction.s_cut = nan is not allowed" in res.stdout + res.stderr
 

@@ -364,13 +364,15 @@ def load_config(paths: Iterable[str | Path], overrides: Iterable[str] = (),
     return validate(apply_overrides(apply_settings(config, settings or {}), overrides))
 
 
-def flatten(config: Mapping, prefix: str = "") -> dict[str, Any]:
-    """Flatten nested sections to ``{"section.key": value}`` (None kept)."""
+def flatten(config: Mapping, prefix: str = "", whole_below: Iterable[str] = ()) -> dict[str, Any]:
+    """Flatten nested sections to ``{"section.key": value}`` (None kept); the entries of the sections named in
+    ``whole_below`` stay whole (``study.models``: each model is a map of dotted keys, not a nested section)."""
     out: dict[str, Any] = {}
+    whole_below = tuple(whole_below)
     for key, value in config.items():
         name = f"{prefix}{key}"
-        if isinstance(value, Mapping):
-            out.update(flatten(value, f"{name}."))
+        if isinstance(value, Mapping) and prefix[:-1] not in whole_below:
+            out.update(flatten(value, f"{name}.", whole_below))
         else:
             out[name] = value
     return out

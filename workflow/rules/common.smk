@@ -22,7 +22,9 @@ from snakemake.exceptions import WorkflowError
 # to every capslide call, so that Snakemake's view of the config and what runs are the same configuration
 CONFIG_OVERRIDES = {
     key: retyped(value)
-    for key, value in flatten(dict(workflow.config_settings.config)).items()
+    for key, value in flatten(
+        dict(workflow.config_settings.config), whole_below=("study.models", "presets")
+    ).items()
 }
 try:
     config = validate(
@@ -50,8 +52,14 @@ CONFIG_FILES = [DEFAULT_CONFIG] + [
     for p in dict.fromkeys(Path(f).resolve() for f in workflow.configfiles)
     if p != _default
 ]
-CONFIG_ARGS = " ".join(shlex.quote(p) for p in CONFIG_FILES) + "".join(
-    f" --set {shlex.quote(s)}" for s in override_args(CONFIG_OVERRIDES)
+# (inlined into shell templates, which Snakemake formats: braces of JSON values doubled)
+CONFIG_ARGS = (
+    (
+        " ".join(shlex.quote(p) for p in CONFIG_FILES)
+        + "".join(f" --set {shlex.quote(s)}" for s in override_args(CONFIG_OVERRIDES))
+    )
+    .replace("{", "{{")
+    .replace("}", "}}")
 )
 # One BLAS/OpenMP thread per declared thread of a job: parallel jobs do not oversubscribe the cores.
 THREADS_ENV = "export OMP_NUM_THREADS={threads} OPENBLAS_NUM_THREADS={threads} MKL_NUM_THREADS={threads} MPLBACKEND=Agg;"
