@@ -32,6 +32,16 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"capslide: error: {command + ': ' if command else ''}{message} ({help_call})\n")
 
 
+def _add_path_args(p: argparse.ArgumentParser, output: str, output_help: str, from_state_help: str) -> None:
+    """The options of the commands that run a load path: config, output, progress, resume, start state."""
+    add_config_args(p)
+    p.add_argument("-o", "--output", required=True, metavar=output, help=output_help)
+    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
+    p.add_argument("--resume", action="store_true",
+                   help=f"continue from the checkpoint a killed run left beside {output} (output.checkpoint_every)")
+    p.add_argument("--from-state", metavar="STATE.npz", help=from_state_help)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="capslide", description="capslide: finite element simulations of a soft adhesive cap sliding "
                      "on a rigid substrate (Mergel et al. 2019). Exit codes: 0 done, 2 bad input, 3 contact detached, "
@@ -59,25 +69,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_figure)
 
     p = sub.add_parser("run", help="run one case (mesh, approach, preload, slide), write its netCDF file")
-    add_config_args(p)
-    p.add_argument("-o", "--output", required=True, metavar="CASE.nc", help="the case file to write (netCDF)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
-    p.add_argument("--resume", action="store_true",
-                   help="continue from the checkpoint a killed run left beside CASE.nc (output.checkpoint_every)")
-    p.add_argument("--from-state", metavar="STATE.npz",
-                   help="start the slide from this normal state (capslide preload) instead of approaching and "
-                        "preloading again; it must be computed for this configuration but its slide-only keys")
+    _add_path_args(p, "CASE.nc", "the case file to write (netCDF)",
+                   "start the slide from this normal state (capslide preload) instead of approaching and preloading "
+                   "again; it must be computed for this configuration but its slide-only keys")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("preload", help="approach and preload the cap, write the normal state every slide of it starts from")
-    add_config_args(p)
-    p.add_argument("-o", "--output", required=True, metavar="STATE.npz", help="the normal state file to write")
-    p.add_argument("-q", "--quiet", action="store_true", help="no per-step progress")
-    p.add_argument("--resume", action="store_true",
-                   help="continue from the checkpoint a killed run left beside STATE.npz (output.checkpoint_every)")
-    p.add_argument("--from-state", metavar="STATE.npz",
-                   help="a tensile preload: go on from this normal state at loading.retract_from (same configuration "
-                        "but the preload) when the path passes through it")
+    _add_path_args(p, "STATE.npz", "the normal state file to write",
+                   "a tensile preload: go on from this normal state at loading.retract_from (same configuration but "
+                   "the preload) when the path passes through it")
     p.set_defaults(func=cmd_preload)
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")

@@ -99,12 +99,12 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
     return result, writer
 
 
-def _normal_state(path: str, config, ignore=()):
+def _normal_state(path: str, config):
     """The normal state file ``path`` for ``config`` (InputError, one line, when it cannot be used)."""
     from ..io.normal_state import NormalStateError, read_normal_state
 
     try:
-        return read_normal_state(path, config, ignore)
+        return read_normal_state(path, config)
     except NormalStateError as err:
         raise InputError(str(err)) from None
 

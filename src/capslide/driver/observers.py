@@ -61,13 +61,14 @@ class Snapshots(Observer):
     def begin(self, state: PathState) -> None:
         """Take the snapshot at ubar = 0 now when the path starts where the slide starts (a normal state), unless
         it was taken before (a checkpoint saved there)."""
-        if (self.at_start and state.leg == "slide" and state.loop is None
-                and not any(sn.ubar == 0.0 for sn in self.snapshots)):
+        if self._starts_slide(state) and not any(sn.ubar == 0.0 for sn in self.snapshots):
             self.snapshots.append(field_snapshot(self.model, state.x, 0.0))
 
+    def _starts_slide(self, state: PathState) -> bool:
+        return self.at_start and state.leg == "slide" and state.loop is None
+
     def step(self, step):
-        state = step.state
-        if self.at_start and state.leg == "slide" and state.loop is None:  # this state starts the slide
+        if self._starts_slide(step.state):  # this state starts the slide
             self.snapshots.append(field_snapshot(self.model, step.x, 0.0))
         if step.breakpoint is not None:
             self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint))

@@ -40,7 +40,7 @@ from .atomic import replacing
 
 __all__ = ["SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
            "load_checkpoint", "write_arrays", "read_arrays", "array_sha", "record_arrays", "records_of", "state_arrays",
-           "path_state"]
+           "path_state", "write_signed", "read_signed"]
 
 STATE = "state.npz"
 
@@ -96,6 +96,30 @@ def read_arrays(path: Path, sha: str | None = None) -> dict[str, np.ndarray]:
     if sha is not None and array_sha(*(data[k] for k in sorted(data))) != sha:
         raise CheckpointError(f"checkpoint file '{path}' does not match its checksum")
     return data
+
+
+def write_signed(path: Path, arrays: dict[str, np.ndarray], header: dict) -> None:
+    """Write arrays with a JSON header that names this capslide version and the arrays' SHA-256, itself
+    checksummed (a checkpoint's state file, a normal state)."""
+    header = {**header, "version": software_version(), "arrays_sha256": array_sha(*(arrays[k] for k in sorted(arrays)))}
+    text = json.dumps(header)
+    write_arrays(path, {**arrays, "header": np.array(text),
+                        "header_sha256": np.array(hashlib.sha256(text.encode()).hexdigest())})
+
+
+def read_signed(path: Path, what: str, error: type[Exception]) -> tuple[dict[str, np.ndarray], dict]:
+    """The arrays and header of :func:`write_signed`'s file; ``error`` naming ``what`` and ``path`` when a checksum
+    does not match or another capslide version wrote it."""
+    data = read_arrays(path)
+    text = str(data.pop("header"))
+    if hashlib.sha256(text.encode()).hexdigest() != str(data.pop("header_sha256")):
+        raise error(f"{what} '{path}' does not match its checksum")
+    meta = json.loads(text)
+    if meta.get("version") != software_version():
+        raise error(f"{what} '{path}' was written by capslide {meta.get('version')}, this is {software_version()}")
+    if array_sha(*(data[k] for k in sorted(data))) != meta.get("arrays_sha256"):
+        raise error(f"{what} '{path}' does not match its checksum")
+    return data, meta
 
 
 def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
@@ -179,11 +203,8 @@ class CheckpointWriter:
                                       "I1_sigma": np.stack([sn.I1_sigma for sn in new_snaps])}, len(new_snaps))
         self.n_records, self.n_snapshots = len(saved.records), len(saved.snapshots)
         arrays, state = state_arrays(saved.state)
-        header = {"version": software_version(), "config_sha256": self.config_sha, **state, "elapsed": saved.elapsed,
-                  "chunks": self.chunks, "arrays_sha256": array_sha(*(arrays[k] for k in sorted(arrays)))}
-        text = json.dumps(header)
-        arrays.update(header=np.array(text), header_sha256=np.array(hashlib.sha256(text.encode()).hexdigest()))
-        write_arrays(self.path / STATE, arrays)
+        write_signed(self.path / STATE, arrays, {"config_sha256": self.config_sha, **state, "elapsed": saved.elapsed,
+                                                 "chunks": self.chunks})
         keep = {c["file"] for c in self.chunks} | {STATE, "lock"}
         for other in self.path.iterdir():
             if other.name not in keep and not other.name.startswith("."):  # chunks of earlier writers
@@ -209,19 +230,9 @@ class CheckpointWriter:
 def _load(path: Path, config_yaml: str) -> SavedCase:
     if not path.is_dir():
         raise CheckpointError(f"checkpoint '{path}' is not a checkpoint directory")
-    data = read_arrays(path / STATE)
-    text = str(data["header"])
-    if hashlib.sha256(text.encode()).hexdigest() != str(data["header_sha256"]):
-        raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
-    meta = json.loads(text)
-    if meta.get("version") != software_version():
-        raise CheckpointError(f"checkpoint '{path}' was written by capslide {meta.get('version')}, "
-                              f"this is {software_version()}")
+    data, meta = read_signed(path / STATE, "checkpoint", CheckpointError)
     if meta.get("config_sha256") != hashlib.sha256(config_yaml.encode()).hexdigest():
         raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
-    arrays = {k: v for k, v in data.items() if k not in ("header", "header_sha256")}
-    if array_sha(*(arrays[k] for k in sorted(arrays))) != meta["arrays_sha256"]:
-        raise CheckpointError(f"checkpoint '{path}' does not match its checksum")
     records, snapshots = [], []
     for chunk in meta["chunks"]:
         part = read_arrays(path / chunk["file"], chunk["sha256"])

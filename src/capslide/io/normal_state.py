@@ -12,19 +12,15 @@ normal configuration is the same; otherwise :func:`read_normal_state` names the 
 
 from __future__ import annotations
 
-import hashlib
 import json
 import zipfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..config import flatten
 from ..states import Status
-from ..version import software_version
-from .checkpoint import SavedCase, array_sha, path_state, read_arrays, record_arrays, records_of, state_arrays, write_arrays
+from .checkpoint import SavedCase, path_state, read_signed, record_arrays, records_of, state_arrays, write_signed
 
 __all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
            "read_normal_state"]
@@ -71,12 +67,8 @@ def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> N
     arrays, state = state_arrays(saved.state)
     arrays.update({f"record_{k}": v for k, v in record_arrays(saved.records).items()})
     status, reason = saved.ended if saved.ended is not None else (Status.COMPLETED, "")
-    header = {"format": FORMAT, "version": software_version(), "normal_config": _text(normal_config(config)),
-              **state, "elapsed": saved.elapsed, "status": int(status), "reason": reason,
-              "arrays_sha256": array_sha(*(arrays[k] for k in sorted(arrays)))}
-    text = json.dumps(header)
-    arrays.update(header=np.array(text), header_sha256=np.array(hashlib.sha256(text.encode()).hexdigest()))
-    write_arrays(Path(path), arrays)
+    write_signed(Path(path), arrays, {"format": FORMAT, "normal_config": _text(normal_config(config)), **state,
+                                      "elapsed": saved.elapsed, "status": int(status), "reason": reason})
 
 
 def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
@@ -86,22 +78,11 @@ def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
     return "none"
 
 
-def _load(path: Path, config: Mapping, ignore: Iterable[str]) -> SavedCase:
-    data = read_arrays(path)
-    text = str(data.pop("header"))
-    if hashlib.sha256(text.encode()).hexdigest() != str(data.pop("header_sha256")):
-        raise NormalStateError(f"normal state '{path}' does not match its checksum")
-    meta = json.loads(text)
+def _load(path: Path, config: Mapping) -> SavedCase:
+    data, meta = read_signed(path, "normal state", NormalStateError)
     if meta.get("format") != FORMAT:
         raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
-    if meta["version"] != software_version():
-        raise NormalStateError(f"normal state '{path}' was written by capslide {meta['version']}, "
-                               f"this is {software_version()}")
-    if array_sha(*(data[k] for k in sorted(data))) != meta["arrays_sha256"]:
-        raise NormalStateError(f"normal state '{path}' does not match its checksum")
     theirs, own = json.loads(meta["normal_config"]), normal_config(config)
-    for key in ignore:
-        theirs.pop(key, None), own.pop(key, None)
     if _text(theirs) != _text(own):
         raise NormalStateError(f"normal state '{path}' was computed for another configuration "
                                f"({_first_difference(theirs, own)})")
@@ -111,16 +92,16 @@ def _load(path: Path, config: Mapping, ignore: Iterable[str]) -> SavedCase:
     return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended)
 
 
-def read_normal_state(path: str | Path, config: Mapping, ignore: Iterable[str] = ()) -> SavedCase:
-    """The normal state in ``path``, checked against the normal configuration of ``config`` (keys in ``ignore``
-    excepted); NormalStateError (one line) when the file is damaged, foreign or for another configuration."""
+def read_normal_state(path: str | Path, config: Mapping) -> SavedCase:
+    """The normal state in ``path``, checked against the normal configuration of ``config``; NormalStateError
+    (one line) when the file is damaged, foreign or for another configuration."""
     path = Path(path)
     if path.is_dir():
         raise NormalStateError(f"normal state '{path}' is a directory")
     if not path.is_file():
         raise NormalStateError(f"normal state '{path}' does not exist")
     try:
-        return _load(path, config, ignore)
+        return _load(path, config)
     except NormalStateError:
         raise
     except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
