@@ -7,7 +7,7 @@ from capslide.config import apply_overrides, validate
 from capslide.fem.mesh import CapMeshSpec, cap_mesh
 from capslide.loadpath.measures import interval_measures
 from capslide.model.build import build_model
-from capslide.model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, FixedHeight, SlideAtForce
+from capslide.model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, FixedHeight, SlideAtForce, SlideOnSpring
 from capslide.model.system import History
 from capslide.params import Parameters
 from capslide.states import SlipState
@@ -35,8 +35,9 @@ def _state(model, seed=0):
 
 
 @pytest.mark.parametrize("element", ["Q1", "Q2"])
-@pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09), FixedEdgeGap(0.37, 0.09)],
-                         ids=["h", "Fn", "apex", "edge"])
+@pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09), FixedEdgeGap(0.37, 0.09),
+                                        SlideOnSpring(0.0, -0.1, 10.05, 3.0)],
+                         ids=["h", "Fn", "apex", "edge", "spring"])
 def test_bordered_jacobian_against_finite_differences(paper_config, element, constraint):
     model = _model(paper_config, element)
     x = _state(model)

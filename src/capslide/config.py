@@ -287,6 +287,10 @@ def _check_consistency(config: Mapping) -> None:
             f"loading.preload = {preload!r} is not allowed: beyond pull-off for sure (adhesion cannot carry more than "
             f"T_max/E x top-surface length = {bound:.4g})"
         )
+    load = config["loading"]
+    if load["normal_control"] == "spring" and load["spring_stiffness"] is None:
+        raise ConfigError("loading.spring_stiffness = None is not allowed with loading.normal_control = spring: "
+                          "give the spring's stiffness per unit width (Pa)")
     if config["contact"]["repulsion_only"] and preload > 0.0:
         raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: "
                           "a tensile preload needs adhesion")

@@ -170,6 +170,8 @@ class Loading:
     stop_at_onset: bool = False  # end the slide at the onset of full sliding
     slide_back: bool = False  # after ubar_max, slide back to ubar = 0
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
+    normal_control: str = "force"  # while sliding: force, height or spring
+    spring_stiffness: float | None = None  # E (force per width per length) of normal_control = spring
 
 
 @dataclass(frozen=True)
@@ -255,6 +257,8 @@ class Parameters:
                 slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
                 min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
                 slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
+                normal_control=load["normal_control"],
+                spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),

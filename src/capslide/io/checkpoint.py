@@ -154,7 +154,7 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks], "cutbacks": s.cutbacks,
-              "smallest": s.smallest}
+              "smallest": s.smallest, "stage_h": s.stage_h}
     return arrays, header
 
 
@@ -164,7 +164,8 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
     return PathState(meta["leg"], data["x"], History(data.get("anchors")), loop, list(meta["targets"]),
-                     [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"])
+                     [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"],
+                     meta.get("stage_h"))
 
 
 class CheckpointWriter:

@@ -29,7 +29,8 @@ FORMAT = "capslide normal state 1"
 
 # dotted keys (or sections, ending in '.') that act from the slide on: they change nothing before it
 SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "loading.min_slide_step",
-              "loading.slide_back", "loading.stop_at_onset", "output.snapshot_ubar", "study.")
+              "loading.slide_back", "loading.stop_at_onset", "loading.normal_control", "loading.spring_stiffness",
+              "output.snapshot_ubar", "study.")
 
 
 class NormalStateError(ValueError):

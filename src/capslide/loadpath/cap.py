@@ -10,7 +10,9 @@ scalar load parameter:
   until Fn <= 0 (stiff, short-range laws, whose apex gap turns too at the snap-in);
 * ``preload``: the normal force to each target; tensile targets are reached by retracting from
   ``loading.retract_from``, as in the experiment; a retraction that loses the contact ends the path detached;
-* ``slide``: friction starts (anchors at the preloaded state) and ubar goes to ``ubar_max`` at fixed Fn;
+* ``slide``: friction starts (anchors at the preloaded state) and ubar goes to ``ubar_max`` under the normal
+  control ``loading.normal_control``: at fixed Fn, at the preloaded height, or on a spring from a stage fixed at
+  the preloaded state (:func:`slide_constraint`);
 * ``slide back`` (with ``loading.slide_back``): ubar returns to 0.
 
 :class:`PathState` says where the path stands between two steps and holds everything it needs to go on, so
@@ -27,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..fem.mesh import H0_AT_SIZE_1
-from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, SlideAtForce
+from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, FixedHeight, SlideAtForce, SlideOnSpring
 from ..model.system import CapModel, History
 from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
@@ -35,7 +37,7 @@ from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
-           "retraction_from"]
+           "retraction_from", "slide_constraint"]
 
 LEGS = ("approach", "spread", "preload", "slide", "slide back", "done")
 
@@ -62,6 +64,7 @@ class PathState:
     marks: list[Mark] = field(default_factory=list)  # the last two steps
     cutbacks: int = 0  # over the finished legs
     smallest: float = math.inf  # smallest step over the finished legs
+    stage_h: float | None = None  # substrate height at the start of the slide (L0): the stage of normal control
 
     def totals(self) -> tuple[int, float]:
         """Cut-backs and smallest step so far, the running leg included."""
@@ -259,24 +262,35 @@ def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Path
     return end
 
 
+def slide_constraint(loading, stage_h: float):
+    """The constraint at ubar of the normal control ``loading.normal_control``, with the stage set where the
+    substrate stood at the start of the slide (``stage_h``, L0) holding the preload."""
+    if loading.normal_control == "height":
+        return lambda ubar: FixedHeight(stage_h, ubar)
+    if loading.normal_control == "spring":
+        return lambda ubar: SlideOnSpring(ubar, loading.preload, stage_h, loading.spring_stiffness)
+    return lambda ubar: SlideAtForce(ubar, loading.preload)
+
+
 def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
                after: str) -> Generator[PathStep, None, LegEnd]:
-    L = model.params.loading
     control = _slide_control(model)
     if state.loop is None:
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
-                         Leg(lambda ubar: SlideAtForce(ubar, L.preload), end, control, Phase.SLIDE, name, ends=detached,
+                         Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
+                             ends=detached,
                              step_limit=lambda ubar: onset_step_limit(state.marks, ubar)))
     return (yield from _run(model, state, steps, after))
 
 
 def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     L = model.params.loading
-    if state.loop is None:  # friction acts from here on: every point anchored where it is
+    if state.loop is None:  # friction acts from here on: every point anchored where it is; the stage is set
         state.history = model.start_friction(state.x, 0.0)
+        state.stage_h = float(state.x[-1])
     after = "slide back" if L.slide_back else "done"
     return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))
 

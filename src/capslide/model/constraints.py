@@ -9,6 +9,11 @@ is evaluated (L0; zero except while sliding). Adding a way to load the cap means
 * ``FixedApexGap(gap)``:   G = h - y_apex - g*                (follows the jump-in through its turning point)
 * ``FixedEdgeGap(X, gap)``: G = h - (y(-X) + y(X))/2 - g*     (holds the contact edge while the contact spreads)
 * ``SlideAtForce(ubar, Fn)``: G = Fn - F* with the substrate slid by ubar
+* ``SlideOnSpring(ubar, Fn, h, k)``: G = Fn - F* + k (h - h*)  (the substrate hangs from a fixed stage through a
+  vertical spring of stiffness k (E = force per width per length), which holds F* at h*; k -> 0 is force
+  control, k -> infinity fixes h = h*)
+
+A slide at a fixed height is ``FixedHeight(h, ubar)``.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from typing import Protocol
 
 import numpy as np
 
-__all__ = ["Constraint", "FixedHeight", "FixedForce", "FixedApexGap", "FixedEdgeGap", "SlideAtForce"]
+__all__ = ["Constraint", "FixedHeight", "FixedForce", "FixedApexGap", "FixedEdgeGap", "SlideAtForce", "SlideOnSpring"]
 
 
 class Constraint(Protocol):
@@ -97,3 +102,21 @@ class FixedEdgeGap:
 
     def border(self, model, x, lin):
         return _unit_border(model, *model.edge_weights(self.X))
+
+
+@dataclass(frozen=True)
+class SlideOnSpring(_ForceControl):
+    """The substrate on a spring from a fixed stage: the spring force F* - k (h - h*) balances Fn (positive
+    tensile); the substrate rising by dh lowers the spring's pull by k dh."""
+
+    ubar: float  # L0
+    Fn: float  # E L0: the spring force at h*
+    h: float  # L0: the substrate height where the spring pulls F*
+    k: float  # E (force per width E L0 per length L0)
+
+    def residual(self, model, x, Fn):
+        return Fn - self.Fn + self.k * (float(x[-1]) - self.h)
+
+    def border(self, model, x, lin):
+        d, e = super().border(model, x, lin)
+        return d, e + self.k

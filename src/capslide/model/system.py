@@ -20,6 +20,7 @@ from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
 from ..laws.friction import friction_law
 from ..params import Parameters
+from .constraints import FixedForce
 
 __all__ = ["History", "BorderedSolve", "CapModel"]
 
@@ -129,6 +130,14 @@ class CapModel:
         K = self.bulk.pattern.matrix(data)
         G = constraint.residual(self, x, lin.Fn)
         return np.concatenate([r, [G]]), BorderedSolve(self.solver, K, c, d, e)
+
+    def normal_stiffness(self, x: np.ndarray, history: History) -> float:
+        """dFn/dh along equilibria (E: force per width per length), bulk and contact together, at the converged
+        state x: the Schur complement e - d.K^{-1}c of the force-controlled bordered system. Positive: lowering
+        the substrate makes Fn more compressive."""
+        _, solve = self.linearize(x, FixedForce(0.0), history)
+        z, _ = self.solver.solve(solve.K, solve.c)
+        return float(solve.e - solve.d @ z)
 
     # -- friction history ---------------------------------------------------
     def start_friction(self, x: np.ndarray, ubar: float = 0.0) -> History:
