@@ -5,7 +5,7 @@ import re
 from cf_units import Unit
 
 # the SI unit a normalized quantity converts to, by what it is divided by (the ``normalization`` attribute)
-SI = {"divided by L0": "m", "divided by E": "Pa", "divided by E L0 W": "N/m"}
+SI = {"divided by L0": "m", "divided by E": "Pa", "divided by E L0 W": "N/m", "divided by E L0^2 W": "J/m"}
 
 
 def check_cf(ds, name=""):

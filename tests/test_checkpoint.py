@@ -20,7 +20,8 @@ from conftest import PAPER_CONFIG, default_sigint
 COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
           "loading.slide_back=true"]
 STEP_FIELDS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
-               "newton_iterations", "krylov_iterations", "traction_t", "slip_state", "gap")
+               "newton_iterations", "krylov_iterations", "traction_t", "slip_state", "gap", "area_reference",
+               "x_stick_left", "x_stick_right", "elastic_energy", "dissipation", "slip")
 
 
 class Killed(Exception):

@@ -110,14 +110,16 @@ def test_interval_measures():
     assert length == 0.0 and np.isnan(xl)
 
 
-FRICTION_CASES = [("DI", 1.0), ("EA", 0.0), ("EA", 0.5), ("EA", 1.0)]
+FRICTION_CASES = [("DI", 1.0), ("DI-reference", 1.0), ("EA", 0.0), ("EA", 0.5), ("EA", 1.0)]
 
 
 @pytest.mark.parametrize("element", ["Q1", "Q2"])
 @pytest.mark.parametrize("model_name, s_cut", FRICTION_CASES, ids=[f"{m}-{s}" for m, s in FRICTION_CASES])
 @pytest.mark.parametrize("ubar", [0.0, 0.0016, 2.0], ids=["stick", "mixed", "slip"])
 def test_friction_tangent_against_finite_differences(paper_config, element, model_name, s_cut, ubar):
-    model = _model(paper_config, element, [f"friction.model={model_name}", f"friction.s_cut={s_cut}"])
+    law, _, area = model_name.partition("-")  # DI-reference: DI's threshold per reference area
+    model = _model(paper_config, element, [f"friction.model={law}", f"friction.s_cut={s_cut}",
+                                           f"friction.DI_area={area or 'current'}"])
     x0 = _state(model)
     history = model.start_friction(x0, 0.0)
     rng = np.random.default_rng(11)

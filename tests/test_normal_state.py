@@ -97,19 +97,23 @@ def test_a_failed_preload_ends_every_case_from_it_the_same_way(base, tmp_path):
 
 
 def test_normal_configuration(paper_config):
-    """Friction and slide settings are not part of it; the law's presence, the mesh and the preload are."""
+    """Friction and slide settings are not part of it unless friction acts from the first contact; the mesh and the
+    preload are."""
     config = paper_config
     same = [{"friction.model": "EA", "friction.s_cut": 0.0, "friction.eps_t": 50.0}, {"loading.max_slide_step": 0.3},
-            {"loading.stop_at_onset": True, "output.snapshot_ubar": [1.0]}]
+            {"loading.stop_at_onset": True, "output.snapshot_ubar": [1.0]}, {"friction.model": "none"},
+            {"loading.normal_control": "spring", "loading.spring_stiffness": 1e6}, {"friction.DI_area": "reference"}]
     for sets in same:
         assert normal_config(apply_settings(config, sets)) == normal_config(config), sets
         assert shares_normal_state(config, {**sets, "loading.preload": 0.1})
-    other = [{"friction.model": "none"}, {"mesh.size": 8.0}, {"loading.preload": 0.1}, {"loading.ubar_max": 2.0},
+    other = [{"friction.active_from": "contact"}, {"mesh.size": 8.0}, {"loading.preload": 0.1}, {"loading.ubar_max": 2.0},
              {"loading.force_step": 0.01}, {"solver.linear": "direct"}, {"output.checkpoint_every": 5}]
     for sets in other:
         assert normal_config(apply_settings(config, sets)) != normal_config(config), sets
     assert not shares_normal_state(config, {"mesh.size": 8.0, "loading.preload": 0.1})
-    assert not shares_normal_state(config, {"friction.model": "none"})  # a frictionless model: its own preload
+    assert not shares_normal_state(config, {"friction.active_from": "contact"})  # friction in the preload: its own
+    contact = apply_settings(config, {"friction.active_from": "contact"})
+    assert normal_config(apply_settings(contact, {"friction.model": "EA"})) != normal_config(contact)
 
 
 @pytest.fixture(scope="module")
@@ -123,8 +127,8 @@ def state_file(base, tmp_path_factory):
 def test_a_state_for_another_configuration_is_refused_naming_the_key(base, state_file):
     with pytest.raises(NormalStateError, match=r"mesh.size = 32.0 there, 16.0 here"):
         read_normal_state(state_file, apply_settings(base, {"mesh.size": 16.0}))
-    with pytest.raises(NormalStateError, match="friction.acts = True there, False here"):
-        read_normal_state(state_file, apply_settings(base, {"friction.model": "none"}))
+    with pytest.raises(NormalStateError, match=r"\(friction\.DI_area = None there, .current. here\)"):
+        read_normal_state(state_file, apply_settings(base, {"friction.active_from": "contact"}))
     read_normal_state(state_file, apply_settings(base, {"friction.model": "EA"}))  # slide-only: accepted
 
 

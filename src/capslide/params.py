@@ -116,6 +116,8 @@ class Friction:
     s_cut: float
     g_cut_EA: float
     eps_t: float  # E / L0
+    DI_area: str = "current"  # DI's threshold per current or per reference area
+    active_from: str = "slide"  # friction acts from the slide on, or from the first contact
 
     @property
     def g_cut(self) -> float | None:
@@ -228,6 +230,8 @@ class Parameters:
             s_cut=s_cut,
             g_cut_EA=s_cut * c["g_max"] + (1.0 - s_cut) * c["g_eq"],
             eps_t=float(fr["eps_t"]),
+            DI_area=fr["DI_area"],
+            active_from=fr["active_from"],
         )
         return cls(
             units=units,

@@ -42,11 +42,13 @@ class Phase(_Flag):
 
 
 class SlipState(_Flag):
-    """Friction state of a surface point: out of contact, sticking, slipping."""
+    """Friction state of a surface point: out of contact, sticking, slipping, or in contact with no friction acting
+    (no friction law, or before friction starts: ``friction.active_from``)."""
 
     FREE = 0
     STICK = 1
     SLIP = 2
+    FRICTIONLESS = 3
 
 
 class Status(_Flag):

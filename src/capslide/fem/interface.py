@@ -225,7 +225,7 @@ class SurfaceContact:
                          anchors: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
         """Per point (s, g): tangential traction T_t and slip states (:class:`capslide.states.SlipState`).
 
-        Before friction starts (no anchors) points in contact report STICK under a friction law, SLIP without one.
+        Points in contact where no friction acts (no law, or no anchors yet) report FRICTIONLESS.
         """
         Tt = np.zeros(self.quad.weight.shape)
         state = np.full(Tt.shape, SlipState.FREE, dtype=np.int8)
@@ -238,7 +238,7 @@ class SurfaceContact:
             state[pts.act] = st
             state[~in_contact] = SlipState.FREE
         else:
-            state[in_contact] = SlipState.STICK if self.law is not None else SlipState.SLIP
+            state[in_contact] = SlipState.FRICTIONLESS
         return Tt, state
 
     def committed_anchors(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None) -> np.ndarray | None:

@@ -5,9 +5,11 @@ configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that d
 them. A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
 (:class:`capslide.loadpath.cap.PathState`), the step records up to there, the wall time spent, how the path ended
 when the preload failed, and the *normal configuration* it was computed for (:func:`normal_config`): the
-configuration without the slide-only keys, plus whether a friction law is set at all (points in contact report
-sticking under a law before the slide, slipping without one). A case starts from the file only when its own
-normal configuration is the same; otherwise :func:`read_normal_state` names the first key that differs.
+configuration without the slide-only keys (points in contact report ``frictionless`` before the slide, whatever
+the friction law). With ``friction.active_from = contact`` friction acts through the approach and the preload, so
+the friction keys belong to the normal configuration and each friction model preloads itself. A case starts from
+the file only when its own normal configuration is the same; otherwise :func:`read_normal_state` names the first
+key that differs.
 """
 
 from __future__ import annotations
@@ -52,11 +54,12 @@ def _number_as_float(value: Any) -> Any:
 
 
 def normal_config(config: Mapping) -> dict[str, Any]:
-    """Dotted key -> value of the configuration the approach and preload depend on (numbers as floats)."""
+    """Dotted key -> value of the configuration the approach and preload depend on (numbers as floats); with
+    ``friction.active_from = contact`` friction acts before the slide, and every friction key belongs to it."""
     flat = flatten(config)
-    out = {k: _number_as_float(v) for k, v in flat.items() if not slide_only(k)}
-    out["friction.acts"] = flat.get("friction.model", "DI") != "none"
-    return out
+    from_contact = flat.get("friction.active_from") == "contact"
+    return {k: _number_as_float(v) for k, v in flat.items()
+            if not slide_only(k) or (from_contact and k.startswith("friction."))}
 
 
 def _text(normal: Mapping[str, Any]) -> str:

@@ -31,16 +31,17 @@ __all__ = ["CONVENTIONS", "scaled_units", "quantity", "global_attrs", "write_net
 
 CONVENTIONS = "CF-1.10"
 STEP_VARIABLES = ("Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right", "newton_iterations",
-                  "krylov_iterations", "wall_time")
+                  "krylov_iterations", "wall_time", "area_reference", "x_stick_left", "x_stick_right", "Ft_over_area",
+                  "elastic_energy", "dissipation")
 STEP_COORDINATES = ("phase", "ubar", "h")
 CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
-PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state")
+PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state", "slip", "slip_rate")
 
 
 def scaled_units(E: float, L0: float) -> dict[str, str]:
     """UDUNITS strings of the internal units: length L0 (m), stress E (Pa), force per unit out-of-plane width
-    E L0 (N/m; plane strain, W = 1)."""
-    return {"length": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m"}
+    E L0 (N/m; plane strain, W = 1), energy per unit width E L0^2 (J/m)."""
+    return {"length": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m", "energy": f"{E * L0 * L0:g} J/m"}
 
 
 def quantity(long_name: str, units: str, normalization: str | None = None) -> dict:
@@ -123,6 +124,17 @@ def _surface_X(mesh: Mesh, n_gauss: int) -> np.ndarray:
     return np.einsum("ga,sa->sg", N, mesh.nodes[mesh.surface_segments, 0]).ravel()
 
 
+def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
+    """Accumulated slip and slip rate per unit ubar of each surface point (slip: the steps' slips, signed)."""
+    dubar = np.diff([r.ubar for r in recs], prepend=recs[0].ubar if recs else 0.0)[:, None]
+    rate = np.divide(slip, dubar, out=np.full(slip.shape, np.nan), where=dubar != 0.0)
+    return {"slip": (("step", "surface_point"), np.cumsum(np.abs(slip), axis=0),
+                     quantity("slip accumulated up to the step: sum of |slip| of the steps, in contact", length, "L0")),
+            "slip_rate": (("step", "surface_point"), rate,
+                          quantity("slip of the step per unit ubar, signed (+x: the cap slips in the sliding "
+                                   "direction relative to the substrate; NaN where ubar does not change)", "1"))}
+
+
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
     """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md)."""
     p, recs, mesh = result.params, result.records, result.mesh
@@ -139,8 +151,19 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "area_stick": quantity("current length of sticking points in contact", u["length"], "L0"),
         "x_left": quantity("current x of the left (trailing) contact edge", u["length"], "L0"),
         "x_right": quantity("current x of the right (leading) contact edge", u["length"], "L0"),
+        "area_reference": quantity("contact area in the reference configuration: reference length of the contact",
+                                   u["length"], "L0"),
+        "x_stick_left": quantity("current x of the stick zone's left edge (NaN: nothing sticks)", u["length"], "L0"),
+        "x_stick_right": quantity("current x of the stick zone's right edge (NaN: nothing sticks)", u["length"], "L0"),
+        "elastic_energy": quantity("strain energy of the cap per unit width", u["energy"], "E L0^2 W"),
     }
     data = {name: ("step", step(name), attrs) for name, attrs in on_step.items()}
+    area = step("area")
+    data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
+                            quantity("Ft / area: mean shear stress in contact (NaN without contact)", u["stress"], "E"))
+    data["dissipation"] = ("step", np.cumsum(step("dissipation")),
+                           quantity("frictional work dissipated up to the step, per unit width: sum of -Tt dslip dA",
+                                    u["energy"], "E L0^2 W"))
     data.update({
         "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
         "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),
@@ -165,6 +188,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
                            quantity("tangential traction on the cap per reference area, positive = +x", u["stress"], "E")),
             "slip_state": (("step", "surface_point"), prof("slip_state", np.int8),
                            flag_attributes(SlipState, "friction state of the surface point")),
+            **_slip_profiles(recs, prof("slip"), u["length"]),
         })
     s = result.scalars
     data.update({

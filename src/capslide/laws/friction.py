@@ -3,6 +3,8 @@
 A law gives the sliding threshold per REFERENCE area at a surface point from the normal gap g_n and the current
 surface stretch J_s = |dx/dX|, with both derivatives. Model DI has its threshold per current area, so per
 reference area it is J_s t_slide(g_n); model EA is per reference area already (T_slide(g_n), J_cl = 1).
+``friction.DI_area = reference`` takes DI's threshold per reference area instead, t_slide(g_n): the variant that
+section 4.2.1 of the paper says would "miss the change in the contact area" (Ft = tau x reference contact length).
 """
 
 from __future__ import annotations
@@ -25,14 +27,18 @@ class FrictionLaw(Protocol):
 
 @dataclass(frozen=True)
 class DistanceIndependent:
-    """Model DI: tau / (1 + exp(k (g_n - g_cut))) per current area (paper eq. tslideCA)."""
+    """Model DI: tau / (1 + exp(k (g_n - g_cut))) per current area (paper eq. tslideCA), or per reference area
+    when ``per_current_area`` is False."""
 
     tau: float
     k: float  # 1 / L0
     g_cut: float  # L0
+    per_current_area: bool = True
 
     def threshold(self, g, J):
         t, dt = contact.di_threshold(g, self.tau, self.k, self.g_cut)
+        if not self.per_current_area:
+            return t, dt, np.zeros_like(t)
         return J * t, J * dt, t
 
 
@@ -54,7 +60,7 @@ class ExtendedAmontons:
 def friction_law(friction: Friction, adhesion: Adhesion) -> FrictionLaw | None:
     """The law of ``friction.model``: DI, EA, or None (frictionless)."""
     if friction.model == "DI":
-        return DistanceIndependent(friction.tau_DI, friction.k_DI, friction.g_cut_DI)
+        return DistanceIndependent(friction.tau_DI, friction.k_DI, friction.g_cut_DI, friction.DI_area == "current")
     if friction.model == "EA":
         return ExtendedAmontons(friction.mu_EA, friction.g_cut_EA, adhesion.T0, adhesion.r0, adhesion.g_reg)
     return None

@@ -10,7 +10,8 @@ scalar load parameter:
   until Fn <= 0 (stiff, short-range laws, whose apex gap turns too at the snap-in);
 * ``preload``: the normal force to each target; tensile targets are reached by retracting from
   ``loading.retract_from``, as in the experiment; a retraction that loses the contact ends the path detached;
-* ``slide``: friction starts (anchors at the preloaded state) and ubar goes to ``ubar_max`` under the normal
+* ``slide``: friction starts (anchors at the preloaded state; from the start of the approach with
+  ``friction.active_from = contact``) and ubar goes to ``ubar_max`` under the normal
   control ``loading.normal_control``: at fixed Fn, at the preloaded height, or on a spring from a stage fixed at
   the preloaded state (:func:`slide_constraint`);
 * ``slide back`` (with ``loading.slide_back``): ubar returns to 0.
@@ -98,9 +99,13 @@ class PathEnd:
 
 
 def initial_state(model: CapModel) -> PathState:
-    """The undeformed cap with the substrate ``approach_start_gap`` above the apex."""
+    """The undeformed cap with the substrate ``approach_start_gap`` above the apex; with ``friction.active_from =
+    contact`` every surface point is anchored where it starts (points out of contact meet no threshold and slip
+    freely, so each is anchored in effect where it first touches)."""
     x = np.zeros(model.n_dofs + 1)
     x[-1] = model.params.geometry.H + model.params.loading.approach_start_gap
+    if model.params.friction.active_from == "contact":
+        return PathState("approach", x, model.start_friction(x, 0.0))
     return PathState("approach", x)
 
 
@@ -288,8 +293,9 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
 
 def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     L = model.params.loading
-    if state.loop is None:  # friction acts from here on: every point anchored where it is; the stage is set
-        state.history = model.start_friction(state.x, 0.0)
+    if state.loop is None:  # the stage is set; friction acts from here on (default): every point anchored where it is
+        if model.params.friction.active_from == "slide":
+            state.history = model.start_friction(state.x, 0.0)
         state.stage_h = float(state.x[-1])
     after = "slide back" if L.slide_back else "done"
     return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))

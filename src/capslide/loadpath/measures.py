@@ -43,11 +43,18 @@ class StepRecord:
     traction_t: np.ndarray = field(repr=False)
     slip_state: np.ndarray = field(repr=False)
     reaction: np.ndarray = field(default_factory=lambda: np.zeros(2), repr=False)  # internal force at the clamped base
+    area_reference: float = math.nan  # reference length of the contact area
+    x_stick_left: float = math.nan  # current x of the stick zone's edges (NaN: nothing sticks)
+    x_stick_right: float = math.nan
+    elastic_energy: float = math.nan  # strain energy of the bulk (E L0^2 per width)
+    dissipation: float = math.nan  # frictional work dissipated in this step (E L0^2 per width), >= 0
+    slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # slip of the step at each point in contact
 
 
 RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
-                  "newton_iterations", "krylov_iterations", "wall_time")
-RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction")
+                  "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
+                  "x_stick_right", "elastic_energy", "dissipation")
+RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
 
 
 @dataclass
@@ -61,21 +68,33 @@ class Snapshot:
 
 def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar: float, newton_its: int,
             krylov_its: int, wall: float) -> StepRecord:
-    """Per-step scalars and surface profiles of the converged state x (friction from ``history``)."""
+    """Per-step scalars and surface profiles of the converged state x; ``history`` is the friction history the
+    step started from (its slip is the move of the anchors at the commit)."""
     u, h = model.split(x)
-    g, xs = model.contact.gaps(u, h)
-    Tn, _ = model.contact.traction(g)
+    c = model.contact
+    g, xs = c.gaps(u, h)
+    Tn, _ = c.traction(g)
     a = model.params.adhesion
     Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
-    _, Fn, Ft = model.contact.force(u, h, ubar, history.anchors)
-    Tt, state = model.contact.tangential_state(u, h, ubar, history.anchors)
+    _, Fn, Ft = c.force(u, h, ubar, history.anchors)
+    Tt, state = c.tangential_state(u, h, ubar, history.anchors)
     pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
-    area, xl, xr = interval_measures(pts, gg - model.params.contact.area_gap)
+    open_gap = gg - model.params.contact.area_gap
+    area, xl, xr = interval_measures(pts, open_gap)
+    area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
     area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
-    area_s, _, _ = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
+    area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
+    sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
+    slip = np.zeros_like(gg)
+    if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
+        slip = (c.committed_anchors(u, h, ubar, history.anchors) - history.anchors).ravel()
+    dissipation = float(-np.sum(Tt.ravel() * slip * c.quad.weight.ravel()))
+    in_contact = (st == SlipState.STICK) | (st == SlipState.SLIP)
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
-                      model.base_reaction(x))
+                      model.base_reaction(x), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
+                      elastic_energy=model.bulk.strain_energy(u), dissipation=dissipation,
+                      slip=np.where(in_contact, slip, 0.0))
 
 
 def field_snapshot(model: CapModel, x: np.ndarray, ubar: float) -> Snapshot:

@@ -60,7 +60,7 @@ def _study_runs(spec: Mapping) -> dict[str, dict]:
 def shares_normal_state(config: Mapping, overrides: Mapping[str, Any]) -> bool:
     """Whether a run of a study (``config`` plus ``overrides``) can start from the normal state of ``config`` at
     the run's ``loading.preload``: its other overrides leave the normal configuration as it is (they act only from
-    the slide on; a frictionless model does not share the state of a model with friction)."""
+    the slide on; a model whose friction acts from the first contact preloads itself)."""
     sets = {key: value for key, value in overrides.items() if key != "loading.preload"}
     return normal_config(apply_settings(config, sets)) == normal_config(config)
 

@@ -1,0 +1,94 @@
+"""Friction options and the outputs a tribologist compares (issue 17): DI per current or reference area, friction
+from the slide or from the first contact, stick-zone edges, slip, dissipation, Ft/A, reference contact length.
+
+Coarse DI cases at zero load (about 5 s each).
+"""
+
+import numpy as np
+import pytest
+
+from capslide.config import apply_overrides, validate
+from capslide.driver.case import run_case
+from capslide.io.results import case_dataset
+from capslide.params import Parameters
+from capslide.states import Phase, SlipState, Status
+
+COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]",
+          "loading.preload=0.0"]
+_RUNS = {}
+
+
+def case(paper_config, *overrides):
+    """(params, result, case dataset) of a coarse case."""
+    if overrides not in _RUNS:
+        p = Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *overrides])))
+        res = run_case(p)
+        assert res.status == Status.COMPLETED, res.reason
+        _RUNS[overrides] = (p, res, case_dataset(res))
+    return _RUNS[overrides]
+
+
+@pytest.mark.parametrize("area", ["current", "reference"])
+def test_di_full_sliding_force_is_tau_times_its_area(paper_config, area):
+    p, res, ds = case(paper_config, f"friction.DI_area={area}")
+    last = ds.isel(step=-1)
+    assert np.all(last.slip_state.values != SlipState.STICK)
+    length = last.area if area == "current" else last.area_reference
+    ratio = float(last.Ft / (p.friction.tau_DI * length))
+    print(area, "Ft / (tau A) =", ratio)
+    assert abs(ratio - 1.0) < 0.005
+
+
+def test_the_two_di_variants_differ_where_the_surface_stretches(paper_config):
+    _, _, cur = case(paper_config, "friction.DI_area=current")
+    _, _, ref = case(paper_config, "friction.DI_area=reference")
+    a = cur.isel(step=-1)
+    stretch = float(a.area / a.area_reference)  # mean surface stretch of the contact at full sliding
+    ratio = float(ref.Ft[-1] / cur.Ft[-1])
+    print("area / reference area", stretch, "Ft reference / Ft current", ratio)
+    assert abs(stretch - 1.0) > 0.01  # the contact's surface is stretched (here: compressed) on average
+    assert abs(ratio - 1.0) > 0.005  # and the variants differ by more than the 0.5 % each obeys its law to
+
+
+def test_no_point_sticks_while_friction_is_off(paper_config):
+    for overrides in [(), ("friction.model=none",)]:
+        _, res, _ = case(paper_config, *overrides)
+        for r in res.records:
+            if r.phase != Phase.SLIDE or overrides:
+                assert r.area_stick == 0.0 and not np.any(r.slip_state == SlipState.STICK), (overrides, r.phase)
+        before = [r for r in res.records if r.phase != Phase.SLIDE]
+        assert any(np.any(r.slip_state == SlipState.FRICTIONLESS) for r in before)  # in contact, no friction
+
+
+def test_friction_from_the_first_contact_acts_through_the_preload(paper_config):
+    _, res, ds = case(paper_config, "friction.active_from=contact")
+    _, slide, _ = case(paper_config)
+    pre = [r for r in res.records if r.phase != Phase.SLIDE]
+    assert all(not np.any(r.slip_state == SlipState.FRICTIONLESS) for r in res.records)
+    assert pre[-1].area_stick > 0.5 * pre[-1].area  # the preloaded contact sticks where it spread
+    assert np.any(pre[-1].traction_t != 0.0)  # and holds tangential tractions from the spreading
+    assert float(ds.Ft[-1]) == pytest.approx(slide.records[-1].Ft, rel=0.01)  # full sliding forgets the history
+    print("peak Ft from contact", res.scalars["peak_Ft"], "from the slide", slide.scalars["peak_Ft"],
+          "onset", res.scalars["onset_ubar"], slide.scalars["onset_ubar"])
+    assert abs(res.scalars["onset_ubar"] - slide.scalars["onset_ubar"]) > 0.01  # the tractions locked in at contact
+
+
+def test_slip_dissipation_and_stick_edges(paper_config):
+    p, res, ds = case(paper_config)
+    slide = ds.where(ds.phase == Phase.SLIDE, drop=True)
+    d = np.diff(ds.dissipation.values, prepend=0.0)
+    assert np.all(d >= -1e-14)  # no step gives energy back
+    steady = slide.isel(step=slice(-3, None))  # full sliding: the dissipated work is Ft dubar
+    dubar = np.diff(steady.ubar.values)
+    np.testing.assert_allclose(np.diff(steady.dissipation.values), steady.Ft.values[1:] * dubar, rtol=1e-9)
+    slipping = steady.slip_state.values[-1] == SlipState.SLIP
+    np.testing.assert_allclose(steady.slip_rate.values[-1][slipping], -1.0, atol=1e-9)  # the cap lags the substrate
+    grow = np.diff(steady.slip.values, axis=0)[-1][slipping]
+    np.testing.assert_allclose(grow, dubar[-1], rtol=1e-9)
+    sticking = slide.where(slide.area_stick > 0, drop=True)
+    assert len(sticking.step) > 5
+    assert np.all(sticking.x_stick_left >= sticking.x_left - 1e-12)
+    assert np.all(sticking.x_stick_right <= sticking.x_right + 1e-12)
+    assert np.all(np.isnan(slide.x_stick_left.values[-3:]))
+    assert np.allclose(ds.Ft_over_area, ds.Ft / ds.area, equal_nan=True)
+    assert np.all(ds.elastic_energy.values[ds.area.values > 0] > 0)
