@@ -210,3 +210,19 @@ def test_two_runs_writing_one_file_both_finish(tmp_path):
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "completed" and float(ds["ubar"].max()) == pytest.approx(0.6)  # forth and back
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o.nc"]  # no temporary, no checkpoint left
+
+
+def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp_path):
+    """The weakening threshold depends on each point's accumulated slip: a resume mid-weakening repeats the
+    uninterrupted history bit for bit only if the checkpoint carries it."""
+    config = validate(apply_overrides(paper_config, [*COARSE, "loading.slide_back=false",
+                                                     "friction.static_over_kinetic=1.2",
+                                                     "friction.slip_weakening_distance=1.0"]))
+    params, text = Parameters.from_config(config), config_text(config)
+    full = run_saving(params, tmp_path / "full", 5)
+    after = [i for i, r in enumerate(full.records) if r.phase == Phase.SLIDE and r.area_stick == 0.0][0] + 3
+    with pytest.raises(Killed):
+        run_saving(params, tmp_path / "ckpt", 5, observers=[kill_after_steps(after)])
+    saved = load_checkpoint(tmp_path / "ckpt", text)
+    assert saved.state.history.slip is not None and saved.state.history.slip.max() > 0.0
+    assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))

@@ -118,3 +118,39 @@ def test_return_map():
     T0, slip0, *_ = contact.return_map(np.array([0.3, -0.2]), np.zeros(2))
     np.testing.assert_array_equal(T0, 0.0)
     assert slip0.all()
+
+
+@pytest.mark.parametrize("ratio", [1.0, 1.5])
+def test_weakening_return_map_branches_and_derivatives(ratio):
+    """Stick, weakening and kinetic slip of the slip-weakening return map: values against the closed forms, the
+    traction against the threshold of its new slip, derivatives against finite differences; ratio 1 is the plain
+    map."""
+    D_c, eps = 0.1, 100.0
+    kin = np.full(6, 0.2)
+    slip = np.array([0.0, 0.0, 0.02, 0.05, 0.09, 0.2])
+    trial = np.array([0.25, -0.31, 0.33, -0.5, 0.9, 0.21])
+    T, slipping, dT_dtrial, dT_dkin = contact.weakening_return_map(trial, kin, slip, ratio, D_c, eps)
+    m = lambda s: ratio - (ratio - 1.0) * np.minimum(s, D_c) / D_c  # noqa: E731
+    stick = np.abs(trial) <= m(slip) * kin
+    np.testing.assert_array_equal(slipping, ~stick)
+    np.testing.assert_array_equal(T[stick], trial[stick])
+    new_slip = slip + np.abs(trial - T) / eps
+    np.testing.assert_allclose(np.abs(T[~stick]), (m(new_slip) * kin)[~stick], rtol=1e-12)  # on the new threshold
+    if ratio == 1.0:
+        plain = contact.return_map(trial, kin)
+        for got, want in zip((T, slipping, dT_dtrial, dT_dkin), plain):
+            np.testing.assert_allclose(got, want, rtol=1e-15)
+    else:
+        assert stick.any() and (~stick & (new_slip < D_c)).any() and (~stick & (new_slip > D_c)).any()
+    h = 1e-7
+    fd_trial = (contact.weakening_return_map(trial + h, kin, slip, ratio, D_c, eps)[0]
+                - contact.weakening_return_map(trial - h, kin, slip, ratio, D_c, eps)[0]) / (2 * h)
+    fd_kin = (contact.weakening_return_map(trial, kin + h, slip, ratio, D_c, eps)[0]
+              - contact.weakening_return_map(trial, kin - h, slip, ratio, D_c, eps)[0]) / (2 * h)
+    np.testing.assert_allclose(dT_dtrial, fd_trial, atol=1e-7)
+    np.testing.assert_allclose(dT_dkin, fd_kin, atol=1e-7)
+
+
+def test_weakening_faster_than_the_penalty_has_no_local_solution():
+    T, *_ = contact.weakening_return_map(np.array([7.0, 0.1]), np.array([3.0, 3.0]), np.zeros(2), 2.0, 0.01, 100.0)
+    assert np.isnan(T[0]) and T[1] == 0.1  # 1 - c kinetic = 1 - 3/1 < 0 where it slips; the sticking point is fine

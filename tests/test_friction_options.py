@@ -10,6 +10,7 @@ import pytest
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
 from capslide.io.results import case_dataset
+from capslide.model.build import build_model
 from capslide.params import Parameters
 from capslide.states import Phase, SlipState, Status
 
@@ -92,3 +93,18 @@ def test_slip_dissipation_and_stick_edges(paper_config):
     assert np.all(np.isnan(slide.x_stick_left.values[-3:]))
     assert np.allclose(ds.Ft_over_area, ds.Ft / ds.area, equal_nan=True)
     assert np.all(ds.elastic_energy.values[ds.area.values > 0] > 0)
+
+
+def test_normal_traction_per_current_area(paper_config):
+    p, res, ds = case(paper_config, "contact.normal_traction_area=current")
+    _, _, paper = case(paper_config)
+    W = build_model(p, res.mesh).contact.quad.weight.ravel()
+    near = ds.gap.values < p.contact.far_gap  # the force leaves out the law's tail beyond far_gap
+    Fn_of_profiles = -(np.where(near, ds.traction_n.values, 0.0) * W).sum(axis=1)  # traction per reference area
+    np.testing.assert_allclose(Fn_of_profiles, ds.Fn.values, atol=1e-10)
+    np.testing.assert_allclose(ds.Fn.values + ds.base_force_y.values, 0.0, atol=1e-9)
+    # theta_k = J_s changes the preloaded contact: the surface in contact is stretched or compressed by percents
+    preloaded = [int(np.flatnonzero(d.phase.values == Phase.PRELOAD)[-1]) for d in (ds, paper)]
+    areas = [float(d.area[i]) for d, i in zip((ds, paper), preloaded)]
+    print("zero-load contact area, theta_k = J_s and 1:", areas, "peak Ft:", float(ds.peak_Ft), float(paper.peak_Ft))
+    assert abs(areas[0] / areas[1] - 1.0) > 1e-3

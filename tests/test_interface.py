@@ -38,8 +38,9 @@ def _state(model, seed=0):
 @pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09), FixedEdgeGap(0.37, 0.09),
                                         SlideOnSpring(0.0, -0.1, 10.05, 3.0)],
                          ids=["h", "Fn", "apex", "edge", "spring"])
-def test_bordered_jacobian_against_finite_differences(paper_config, element, constraint):
-    model = _model(paper_config, element)
+@pytest.mark.parametrize("normal_area", ["reference", "current"])
+def test_bordered_jacobian_against_finite_differences(paper_config, element, constraint, normal_area):
+    model = _model(paper_config, element, [f"contact.normal_traction_area={normal_area}"])
     x = _state(model)
     g, _ = model.contact.gaps(x[:-1], x[-1])
     a = model.params.adhesion
@@ -110,24 +111,29 @@ def test_interval_measures():
     assert length == 0.0 and np.isnan(xl)
 
 
-FRICTION_CASES = [("DI", 1.0), ("DI-reference", 1.0), ("EA", 0.0), ("EA", 0.5), ("EA", 1.0)]
+FRICTION_CASES = [("DI", 1.0, ()), ("EA", 0.0, ()), ("EA", 0.5, ()), ("EA", 1.0, ()),
+                  ("DI", 1.0, ("friction.DI_area=reference",)), ("DI", 1.0, ("contact.normal_traction_area=current",)),
+                  ("EA", 1.0, ("contact.normal_traction_area=current",)),
+                  ("DI", 1.0, ("friction.static_over_kinetic=1.5",)), ("EA", 0.0, ("friction.static_over_kinetic=1.5",))]
 
 
 @pytest.mark.parametrize("element", ["Q1", "Q2"])
-@pytest.mark.parametrize("model_name, s_cut", FRICTION_CASES, ids=[f"{m}-{s}" for m, s in FRICTION_CASES])
+@pytest.mark.parametrize("model_name, s_cut, options", FRICTION_CASES,
+                         ids=[f"{m}-{s}{'-' + o[0].split('=')[0] if o else ''}" for m, s, o in FRICTION_CASES])
 @pytest.mark.parametrize("ubar", [0.0, 0.0016, 2.0], ids=["stick", "mixed", "slip"])
-def test_friction_tangent_against_finite_differences(paper_config, element, model_name, s_cut, ubar):
-    law, _, area = model_name.partition("-")  # DI-reference: DI's threshold per reference area
-    model = _model(paper_config, element, [f"friction.model={law}", f"friction.s_cut={s_cut}",
-                                           f"friction.DI_area={area or 'current'}"])
+def test_friction_tangent_against_finite_differences(paper_config, element, model_name, s_cut, options, ubar):
+    model = _model(paper_config, element, [f"friction.model={model_name}", f"friction.s_cut={s_cut}", *options])
     x0 = _state(model)
     history = model.start_friction(x0, 0.0)
     rng = np.random.default_rng(11)
+    if history.slip is not None:  # slip weakening: points before, inside and past the weakening distance
+        history = History(history.anchors, rng.uniform(0.0, 1.5 * model.params.friction.slip_weakening_distance,
+                                                        history.anchors.shape))
     x = x0.copy()
     x[:-1] += 1e-4 * rng.normal(size=model.n_dofs)  # move away from the anchors, not uniformly
     x[model.bc.dofs] = 0.0
     constraint = SlideAtForce(ubar, -0.05)
-    _, state = model.contact.tangential_state(x[:-1], x[-1], ubar, history.anchors)
+    _, state = model.contact.tangential_state(x[:-1], x[-1], ubar, history.anchors, history.slip)
     n_stick, n_slip = np.sum(state == SlipState.STICK), np.sum(state == SlipState.SLIP)
     if ubar == 0.0:
         assert n_stick > 0
@@ -135,6 +141,8 @@ def test_friction_tangent_against_finite_differences(paper_config, element, mode
         assert n_slip > 0 and n_stick == 0
     if ubar == 0.0016:  # trial tractions near tau_DI = 0.165 = eps_t 0.00165
         assert n_stick > 0 and n_slip > 0
+        if history.slip is not None:  # some slipping points still weakening
+            assert np.any((state == SlipState.SLIP) & (history.slip < model.params.friction.slip_weakening_distance))
     r, solve = model.linearize(x, constraint, history)
     np.testing.assert_allclose(r, model.residual(x, constraint, history), atol=1e-13)
     free = np.ones(model.n_dofs + 1)
@@ -148,6 +156,6 @@ def test_friction_tangent_against_finite_differences(paper_config, element, mode
         err = np.abs(Jv - fd)
         bad = err > 1e-5 * np.abs(fd).max() + 1e-6
         assert bad.sum() == 0, (bad.sum(), err.max(), np.abs(fd).max())
-    if model_name == "DI" and ubar == 2.0:  # sliding friction makes the tangent unsymmetric
+    if model_name == "DI" and ubar == 2.0 and not options:  # sliding friction makes the tangent unsymmetric
         K = solve.K
         assert abs(K - K.T).max() > 1e-6

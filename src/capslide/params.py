@@ -117,7 +117,14 @@ class Friction:
     g_cut_EA: float
     eps_t: float  # E / L0
     DI_area: str = "current"  # DI's threshold per current or per reference area
+    static_over_kinetic: float = 1.0  # static threshold / kinetic threshold (the law's)
+    slip_weakening_distance: float = 0.1  # L0: slip over which the threshold falls from static to kinetic
     active_from: str = "slide"  # friction acts from the slide on, or from the first contact
+
+    @property
+    def weakening(self) -> tuple[float, float] | None:
+        """(static/kinetic, slip-weakening distance) when the static threshold exceeds the kinetic one, else None."""
+        return (self.static_over_kinetic, self.slip_weakening_distance) if self.static_over_kinetic > 1.0 else None
 
     @property
     def g_cut(self) -> float | None:
@@ -131,6 +138,7 @@ class ContactSpec:
     far_gap: float
     repulsion_only: bool
     area_gap: float
+    normal_traction_area: str = "reference"  # Tn per reference area (theta_k = 1) or per current area (theta_k = J_s)
 
 
 @dataclass(frozen=True)
@@ -231,6 +239,8 @@ class Parameters:
             g_cut_EA=s_cut * c["g_max"] + (1.0 - s_cut) * c["g_eq"],
             eps_t=float(fr["eps_t"]),
             DI_area=fr["DI_area"],
+            static_over_kinetic=float(fr["static_over_kinetic"]),
+            slip_weakening_distance=float(fr["slip_weakening_distance"]),
             active_from=fr["active_from"],
         )
         return cls(
@@ -242,6 +252,7 @@ class Parameters:
                 far_gap=config["contact"]["far_gap_over_r0"] * c["r0"],
                 repulsion_only=bool(config["contact"]["repulsion_only"]),
                 area_gap=config["contact"]["area_gap_over_g_max"] * c["g_max"],
+                normal_traction_area=config["contact"]["normal_traction_area"],
             ),
             geometry=Geometry(R=float(geo["R"]), H=float(geo["H"])),
             mesh=MeshSpec(

@@ -52,11 +52,13 @@ class SlipState(_Flag):
 
 
 class Status(_Flag):
-    """How a case ended: completed, the contact came off (detached), or no equilibrium was found (diverged)."""
+    """How a case ended: completed, the contact came off (detached), no equilibrium was found (diverged), or the
+    slide snapped: with slip weakening, no quasi-static equilibrium goes on past a drop of the friction force."""
 
     COMPLETED = 0
     DETACHED = 1
     DIVERGED = 2
+    SNAPPED = 3
 
 
 def flag_attributes(states: type[_Flag], long_name: str) -> dict:

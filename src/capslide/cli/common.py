@@ -19,7 +19,7 @@ __all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_STATUS", "InputError", "a
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
-EXIT_STATUS = {Status.COMPLETED: 0, Status.DETACHED: 3, Status.DIVERGED: 4}
+EXIT_STATUS = {Status.COMPLETED: 0, Status.DETACHED: 3, Status.DIVERGED: 4, Status.SNAPPED: 5}
 
 
 class InputError(ValueError):

@@ -21,7 +21,7 @@ from ..model import cost
 from ..model.build import build_model, cap_mesh_spec
 from ..params import Parameters
 from ..states import Status
-from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snapshots, StepBudget
+from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snap, Snapshots, StepBudget
 
 __all__ = ["CaseResult", "run_case", "snapshot_positions"]
 
@@ -74,7 +74,7 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     clock = Clock(resume.elapsed if resume is not None else 0.0)
     snapshot_taker = Snapshots(model, wanted, snapshots)
     watching: list[Observer] = [Recorder(records), snapshot_taker, *observers,
-                                PeelOff(records, params.loading.preload),
+                                PeelOff(records, params.loading.preload), Snap(records, params.friction.weakening),
                                 StepBudget(records, params.config["limits"]["max_steps"])]
     if params.loading.stop_at_onset:
         watching.append(OnsetStop())

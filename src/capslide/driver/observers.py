@@ -17,8 +17,8 @@ from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_slid
 from ..model.system import CapModel
 from ..states import Status
 
-__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "StepBudget", "Checkpointing", "Clock",
-           "AfterSteps"]
+__all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Snap", "StepBudget", "Checkpointing",
+           "Clock", "AfterSteps"]
 
 
 @dataclass(frozen=True)
@@ -108,6 +108,25 @@ class AfterSteps(Observer):
         self.seen += 1
         if self.seen == self.n:
             self.action()
+
+
+class Snap(Observer):
+    """With slip weakening (``weakening`` = (static/kinetic, D_c), None without), a slide that finds no equilibrium
+    has snapped: the friction force falls faster than the cap unloads, and no quasi-static path goes on (a
+    dynamic slip event). The case ends snapped at the last converged ubar; it never hangs (the step control's
+    minimum step and cut-back budget end the search)."""
+
+    def __init__(self, records: list[StepRecord], weakening: tuple[float, float] | None):
+        self.records, self.weakening = records, weakening
+
+    def end(self, end):
+        if self.weakening is None or end.status != Status.DIVERGED or end.leg not in ("slide", "slide back"):
+            return end
+        last = self.records[-1]
+        peak = max((abs(r.Ft) for r in self.records if r.phase == last.phase), default=abs(last.Ft))
+        reason = (f"{end.leg}: snapped at ubar = {last.ubar:.6g}, no quasi-static equilibrium beyond it (slip weakening, "
+                  f"static/kinetic = {self.weakening[0]:g}; |Ft| = {abs(last.Ft):.6g}, peak {peak:.6g}): {end.reason}")
+        return PathEnd(Status.SNAPPED, reason, end.x, end.cutbacks, end.min_step, end.leg)
 
 
 class StepBudget(Observer):

@@ -149,11 +149,13 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
             arrays["loop_x_prev"] = s.loop.x_prev
     if s.history.anchors is not None:
         arrays["anchors"] = s.history.anchors
+    if s.history.slip is not None:
+        arrays["accumulated_slip"] = s.history.slip
     loop = None if s.loop is None else {
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
-              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick] for m in s.marks], "cutbacks": s.cutbacks,
+              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft] for m in s.marks], "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h}
     return arrays, header
 
@@ -163,8 +165,9 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     lm = meta["loop"]
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
-    return PathState(meta["leg"], data["x"], History(data.get("anchors")), loop, list(meta["targets"]),
-                     [Mark(Phase(int(p)), u, F, a) for p, u, F, a in meta["marks"]], meta["cutbacks"], meta["smallest"],
+    history = History(data.get("anchors"), data.get("accumulated_slip"))
+    return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
+                     [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
                      meta.get("stage_h"))
 
 

@@ -16,6 +16,7 @@ __all__ = [
     "normal_traction_unregularized",
     "normal_traction",
     "di_threshold",
+    "weakening_return_map",
     "ea_g_cut",
     "ea_threshold",
     "return_map",
@@ -104,3 +105,38 @@ def return_map(T_trial, threshold):
     dT_dtrial = np.where(slipping, 0.0, 1.0)
     dT_dthreshold = np.where(slipping, sign, 0.0)
     return T, slipping, dT_dtrial, dT_dthreshold
+
+
+
+def weakening_return_map(T_trial, kinetic, slip, ratio, D_c, eps_t):
+    """Stick/slip return map with linear slip weakening of the threshold (a standard regularization of static and
+    kinetic friction: Ida 1972, J. Geophys. Res. 77, 3796; Palmer & Rice 1973, Proc. R. Soc. A 332, 527).
+
+    The threshold is m(s) ``kinetic`` with m(s) = ratio - a min(s, D_c), a = (ratio - 1) / D_c: ``ratio`` (>= 1)
+    times the kinetic threshold at s = 0 (static), falling linearly to it over the slip distance ``D_c``. ``slip``
+    is a point's accumulated slip s before the step; the step's slip ds = (|T_trial| - |T|) / eps_t enters the
+    threshold implicitly (backward Euler), with c = a / eps_t:
+
+    * stick where |T_trial| <= m(s) kinetic: T = T_trial;
+    * weakening where s + ds < D_c: |T| = kinetic (m(s) - c |T_trial|) / (1 - c kinetic);
+    * kinetic elsewhere: |T| = kinetic.
+
+    Where 1 - c kinetic <= 0 the threshold softens faster than the penalty unloads: no local solution, T is NaN.
+    ``ratio`` = 1 is :func:`return_map`. Returns ``(T, slipping, dT/dT_trial, dT/dkinetic)`` of the active branch.
+    """
+    T_trial, kinetic, slip = (np.asarray(v, dtype=float) for v in (T_trial, kinetic, slip))
+    a = (ratio - 1.0) / D_c
+    c = a / eps_t
+    m = ratio - a * np.minimum(slip, D_c)
+    mag, sign = np.abs(T_trial), np.sign(T_trial)
+    slipping = mag > m * kinetic
+    den = 1.0 - c * kinetic
+    stable = den > 0.0
+    safe = np.where(stable, den, 1.0)
+    weak = kinetic * (m - c * mag) / safe  # = kinetic m(s + ds): at least kinetic while s + ds <= D_c
+    weakening = slipping & (slip < D_c) & (~stable | (weak > kinetic))
+    T_abs = np.where(weakening, np.where(stable, weak, np.nan), kinetic)
+    T = np.where(slipping, sign * T_abs, T_trial)
+    dT_dtrial = np.where(slipping, np.where(weakening, -c * kinetic / safe, 0.0), 1.0)
+    dT_dkinetic = np.where(slipping, sign * np.where(weakening, (m - c * mag) / safe**2, 1.0), 0.0)
+    return T, slipping, dT_dtrial, dT_dkinetic

@@ -38,7 +38,7 @@ from .measures import StepRecord, fully_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
-           "retraction_from", "slide_constraint"]
+           "retraction_from", "slide_constraint", "snap_check"]
 
 LEGS = ("approach", "spread", "preload", "slide", "slide back", "done")
 
@@ -51,6 +51,7 @@ class Mark:
     ubar: float
     Fn: float
     area_stick: float
+    Ft: float = math.nan
 
 
 @dataclass
@@ -171,8 +172,8 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
             yield conv
             continue
         state.x, state.history = conv.x, conv.history
-        state.marks = [*state.marks[-1:], Mark(conv.record.phase, conv.record.ubar, conv.record.Fn,
-                                               conv.record.area_stick)]
+        rec = conv.record
+        state.marks = [*state.marks[-1:], Mark(rec.phase, rec.ubar, rec.Fn, rec.area_stick, rec.Ft)]
         if conv.end is not None and conv.end.status == Status.COMPLETED:
             _finish_leg(model, state, after)
         yield PathStep(conv.record, conv.x, conv.breakpoint, state,
@@ -199,7 +200,7 @@ def _after_preload(model: CapModel) -> str:
 def _current_Fn(model: CapModel, state: PathState) -> float:
     if state.marks:
         return state.marks[-1].Fn
-    return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors)[1]
+    return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors, state.history.slip)[1]
 
 
 def preload_targets(loading, Fn_approached: float) -> list[float]:
@@ -277,6 +278,21 @@ def slide_constraint(loading, stage_h: float):
     return lambda ubar: SlideAtForce(ubar, loading.preload)
 
 
+SNAP_DROP = 0.01  # largest fall of |Ft| in one slide step, relative to the step's start, with slip weakening
+
+
+def snap_check(state: PathState, drop: float = SNAP_DROP):
+    """With slip weakening, a slide step whose |Ft| falls by more than ``drop`` of the last step's is cut back: a
+    smooth fall then passes in short steps, and a fall that persists at the minimum step is a snap (no
+    quasi-static path; the leg ends diverged there, and the case snapped, :class:`capslide.driver.observers.Snap`)."""
+    def rejects(rec) -> str | None:
+        last = state.marks[-1] if state.marks else None
+        if last is None or last.phase != rec.phase or not abs(rec.Ft) < (1.0 - drop) * abs(last.Ft):
+            return None
+        return f"|Ft| fell from {abs(last.Ft):.6g} to {abs(rec.Ft):.6g} in one step"
+    return rejects
+
+
 def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
                after: str) -> Generator[PathStep, None, LegEnd]:
     control = _slide_control(model)
@@ -286,8 +302,8 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
-                             ends=detached,
-                             step_limit=lambda ubar: onset_step_limit(state.marks, ubar)))
+                             ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar),
+                             rejects=snap_check(state) if model.params.friction.weakening else None))
     return (yield from _run(model, state, steps, after))
 
 

@@ -43,7 +43,8 @@ class StepControl:
 class Leg:
     """What a continuation runs: ``constraint_of(value)`` is the model constraint at load value ``value``, ``end``
     the value to reach under ``control``; records get ``phase``; reasons start with ``name``. ``ends(record)`` may
-    end the leg after a step with a status; ``step_limit(value)`` may cap the next step."""
+    end the leg after a step with a status; ``step_limit(value)`` may cap the next step; a converged step for whose
+    record ``rejects(record)`` gives a reason counts as a failed one (the step is cut back)."""
 
     constraint_of: Callable[[float], object]
     end: float
@@ -52,6 +53,7 @@ class Leg:
     name: str
     ends: Callable[[StepRecord], Status | None] | None = None
     step_limit: Callable[[float], float] | None = None
+    rejects: Callable[[StepRecord], str | None] | None = None
 
 
 @dataclass
@@ -144,22 +146,28 @@ def continuation(model: CapModel, loop: Loop, history: History,
                 x0 = loop.x
         c = leg.constraint_of(target)
         res = solve_constrained(model, c, history, x0, opts)
-        if not res.converged:
+        reason = res.reason
+        rec = None
+        if res.converged:
+            rec = measure(model, res.x, history, leg.phase, c.ubar, res.iterations, res.linear_iterations,
+                          time.perf_counter() - t0)
+            rejected = leg.rejects(rec) if leg.rejects is not None else None
+            if rejected is not None:
+                rec, reason = None, rejected
+        if rec is None:
             loop.cutbacks += 1
             loop.step *= 0.5
             if loop.cutbacks > control.max_cutbacks:
                 return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
-                              f"{loop.value:.6g} ({res.reason})")
+                              f"{loop.value:.6g} ({reason})")
             if loop.step < control.minimum:
                 return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
-                              f"({res.reason})")
+                              f"({reason})")
             yield Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
             continue
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
         loop.smallest = min(loop.smallest, loop.step)
-        rec = measure(model, loop.x, history, leg.phase, c.ubar, res.iterations, res.linear_iterations,
-                      time.perf_counter() - t0)
         history = model.commit(loop.x, c.ubar, history)  # friction history only at converged steps
         landed = None
         if loop.pending and target == loop.pending[0]:

@@ -74,10 +74,11 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     c = model.contact
     g, xs = c.gaps(u, h)
     Tn, _ = c.traction(g)
+    Tn = c.theta(u) * Tn  # per reference area
     a = model.params.adhesion
     Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
-    _, Fn, Ft = c.force(u, h, ubar, history.anchors)
-    Tt, state = c.tangential_state(u, h, ubar, history.anchors)
+    _, Fn, Ft = c.force(u, h, ubar, history.anchors, history.slip)
+    Tt, state = c.tangential_state(u, h, ubar, history.anchors, history.slip)
     pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
     open_gap = gg - model.params.contact.area_gap
     area, xl, xr = interval_measures(pts, open_gap)
@@ -87,7 +88,7 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
     slip = np.zeros_like(gg)
     if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
-        slip = (c.committed_anchors(u, h, ubar, history.anchors) - history.anchors).ravel()
+        slip = (c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors).ravel()
     dissipation = float(-np.sum(Tt.ravel() * slip * c.quad.weight.ravel()))
     in_contact = (st == SlipState.STICK) | (st == SlipState.SLIP)
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,

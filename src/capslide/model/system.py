@@ -27,9 +27,11 @@ __all__ = ["History", "BorderedSolve", "CapModel"]
 
 @dataclass(frozen=True)
 class History:
-    """State variables that change only at converged steps: the friction anchors (s, g), None before friction."""
+    """State variables that change only at converged steps: the friction anchors (s, g), None before friction, and
+    with slip weakening each point's accumulated slip (s, g), None without."""
 
     anchors: np.ndarray | None = None
+    slip: np.ndarray | None = None
 
 
 class BorderedSolve:
@@ -67,6 +69,8 @@ class CapModel:
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
             law=friction_law(params.friction, params.adhesion), eps_t=params.friction.eps_t,
             contact_gap=params.contact.area_gap,
+            normal_per_current_area=params.contact.normal_traction_area == "current",
+            weakening=params.friction.weakening,
         )
         self.bc = Dirichlet.on_nodes(mesh.base, self.bulk.pattern)
         self.n_dofs = mesh.n_dofs
@@ -112,7 +116,7 @@ class CapModel:
     # -- Newton callables -------------------------------------------------
     def residual(self, x: np.ndarray, constraint, history: History) -> np.ndarray:
         u, h = self.split(x)
-        f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors)
+        f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors, history.slip)
         r = self.bulk.residual(u) - f_c
         r[self.bc.dofs] = 0.0
         return np.concatenate([r, [constraint.residual(self, x, Fn)]])
@@ -120,7 +124,7 @@ class CapModel:
     def linearize(self, x: np.ndarray, constraint, history: History) -> tuple[np.ndarray, BorderedSolve]:
         u, h = self.split(x)
         f_int, data = self.bulk.residual_and_tangent_data(u)
-        lin = self.contact.linearize(u, h, constraint.ubar, history.anchors)
+        lin = self.contact.linearize(u, h, constraint.ubar, history.anchors, history.slip)
         np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
         r = f_int - lin.f
         self.bc.apply(data, r)
@@ -142,11 +146,16 @@ class CapModel:
     # -- friction history ---------------------------------------------------
     def start_friction(self, x: np.ndarray, ubar: float = 0.0) -> History:
         """The history with every surface point anchored where it is (friction acts from here on)."""
-        return History(self.contact.anchors_at(x[:-1], ubar))
+        anchors = self.contact.anchors_at(x[:-1], ubar)
+        return History(anchors, None if self.contact.weakening is None else np.zeros_like(anchors))
 
     def commit(self, x: np.ndarray, ubar: float, history: History) -> History:
-        """The history after the converged state x (slipping points' anchors follow the return map)."""
-        return History(self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors))
+        """The history after the converged state x (slipping points' anchors follow the return map, and their
+        accumulated slip grows by the anchors' move)."""
+        anchors = self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors, history.slip)
+        if history.slip is None:
+            return History(anchors)
+        return History(anchors, history.slip + np.abs(anchors - history.anchors))
 
     # -- measures of a state ----------------------------------------------
     def base_reaction(self, x: np.ndarray) -> np.ndarray:
