@@ -24,6 +24,7 @@ include: "workflow/rules/collect.smk"
 include: "workflow/rules/cap_figures.smk"
 include: "workflow/rules/stability.smk"
 include: "workflow/rules/convergence.smk"
+include: "workflow/rules/options.smk"
 include: "workflow/rules/report_config.smk"
 
 
@@ -42,10 +43,12 @@ localrules:
     stability_preload,
     stability_table,
     convergence_table,
+    options_table,
     effective_config,
     stability,
     verification,
     convergence,
+    options,
 
 
 rule all:

@@ -154,3 +154,19 @@ def test_weakening_return_map_branches_and_derivatives(ratio):
 def test_weakening_faster_than_the_penalty_has_no_local_solution():
     T, *_ = contact.weakening_return_map(np.array([7.0, 0.1]), np.array([3.0, 3.0]), np.zeros(2), 2.0, 0.01, 100.0)
     assert np.isnan(T[0]) and T[1] == 0.1  # 1 - c kinetic = 1 - 3/1 < 0 where it slips; the sticking point is fine
+
+
+@pytest.mark.parametrize("g_far", [np.inf, 2.0])
+def test_normal_potential_is_the_integral_of_the_traction(paper, g_far):
+    """-dphi/dg = Tn on both sides of g_reg, phi(inf) = 0 (or 0 beyond g_far), and the work of adhesion W_adh =
+    -phi(g_eq) without regularization below g_eq (paper eq. Wadh)."""
+    a = paper.adhesion
+    g = np.array([-0.05, 0.5 * a.g_reg, 0.999 * a.g_reg, 1.001 * a.g_reg, a.g_eq, a.g_max, 0.5, 1.5, 1.9])
+    h = 1e-7
+    fd = -(contact.normal_potential(g + h, a.T0, a.r0, a.g_reg, g_far)
+           - contact.normal_potential(g - h, a.T0, a.r0, a.g_reg, g_far)) / (2 * h)
+    Tn, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)
+    np.testing.assert_allclose(fd, Tn, rtol=1e-6, atol=1e-8)
+    assert contact.normal_potential(1e6 if np.isinf(g_far) else 2.5, a.T0, a.r0, a.g_reg, g_far) == pytest.approx(0.0, abs=1e-12)
+    if np.isinf(g_far):
+        assert -contact.normal_potential(a.g_eq, a.T0, a.r0, 0.5 * a.g_eq) == pytest.approx(a.W_adh, rel=1e-12)

@@ -1,6 +1,6 @@
 # Cap figures of the paper: force and area curves from the collected dataset,
 # interface and stress snapshots from the case file of DI at zero load.
-CAP_FIGURES = ["cap_PxAndAc", "cap_PxOverAc"]
+CAP_FIGURES = ["cap_PxAndAc", "cap_PxOverAc", "cap_FtOverA"]
 CASE_FIGURES = ["cap_Aczoom", "cap_xn"]
 # the case the paper's snapshot figures show: model DI, zero normal load
 SNAPSHOT_CASE = next(

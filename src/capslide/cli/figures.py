@@ -11,7 +11,7 @@ from .common import InputError, check_outputs, parameters
 __all__ = ["cmd_figure", "FIGURE_HELP"]
 
 FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from CONFIG, cap_setup from "
-               "--input MESH.nc, cap_PxAndAc and cap_PxOverAc from --input CASES.nc, cap_Aczoom and cap_xn from "
+               "--input MESH.nc, cap_PxAndAc, cap_PxOverAc and cap_FtOverA from --input CASES.nc, cap_Aczoom and cap_xn from "
                "--input CASE.nc, verification from --table FILE.csv")
 
 
@@ -41,7 +41,7 @@ def cmd_figure(args) -> int:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
         cases = open_result(args.input, "cases")
-        kwargs = {"tau_DI": _tau_DI(cases)} if args.name == "cap_PxOverAc" else {}
+        kwargs = {"tau_DI": _tau_DI(cases)} if args.name in ("cap_PxOverAc", "cap_FtOverA") else {}
         draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
     elif args.name in figures.CASE_FIGURES:
         if not args.input:

@@ -1,4 +1,5 @@
-"""Commands of the studies: verify (Hertz/JKR), stability and convergence tables, the pull-off preload overlay."""
+"""Commands of the studies: verify (Hertz/JKR), stability, convergence and options tables, the pull-off preload
+overlay."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from ..config import ConfigError
 from ..states import Status
 from .common import EXIT_STATUS, InputError, check_outputs, csv_text, parameters, write_text_atomic
 
-__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_pull_off", "read_spec"]
+__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_pull_off", "read_spec"]
 
 
 def read_spec(path: str, kind: str) -> tuple[dict, dict]:
@@ -129,4 +130,32 @@ def cmd_convergence(args) -> int:
         with figures.journal_style():
             figures.save(figures.fig_convergence(rows), figs)
     print(f"{len(rows)} runs of {len({(r['case'], r['run']) for r in rows})} case files; table and figure written")
+    return 0
+
+
+def cmd_options(args) -> int:
+    """Evaluate the options study from its case files: table (CSV, Markdown), the Ft and area figure and the
+    contact and stick-zone edge figure."""
+    from ..studies.convergence import markdown_table
+    from ..studies.options import TABLE_COLUMNS, read_cases, table_rows
+
+    spec, runs = read_spec(args.spec, "options")
+    outputs = check_outputs(args.output, {"csv", "md"})
+    forces = check_outputs(args.forces or [], {"pdf", "png"})
+    edges = check_outputs(args.edges or [], {"pdf", "png"})
+    curves = read_cases(spec, runs, args.cases)
+    rows = table_rows(spec, curves)
+    for out in outputs:
+        write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
+    if forces or edges:
+        from .. import figures
+
+        with figures.journal_style():
+            if forces:
+                figures.save(figures.fig_options(spec, curves), forces)
+            if edges:
+                figures.save(figures.fig_option_edges(spec, curves), edges)
+    for r in rows:
+        print(f"{r['model']:4s} {r['option']:20s} {r['status']:9s} peak Ft {r['peak_Ft']:.5g} "
+              f"({r['peak_change_pct']:+.2f} %), onset ubar {r['onset_ubar']:.4g} ({r['onset_change_pct']:+.2f} %)")
     return 0

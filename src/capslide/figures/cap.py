@@ -11,7 +11,7 @@ from ..params import Parameters
 from ..states import Phase
 from .style import BLUE, DOUBLE_COLUMN, ORANGE, PURPLE, SINGLE_COLUMN
 
-__all__ = ["fig_cap_setup", "fig_cap_PxAndAc", "fig_cap_PxOverAc", "fig_cap_Aczoom", "fig_cap_xn"]
+__all__ = ["fig_cap_setup", "fig_cap_PxAndAc", "fig_cap_PxOverAc", "fig_cap_Aczoom", "fig_cap_xn", "fig_cap_FtOverA"]
 
 
 def _mesh_lines(ax, mesh: Mesh, lw=0.15, color="0.25"):
@@ -76,7 +76,7 @@ def _slide_curve(cases, model: str, preload: float) -> dict[str, np.ndarray]:
     """ubar, Ft and area over the slide of one case of the cube."""
     case = cases.sel(model=model, preload=preload)
     sel = np.flatnonzero(case["phase"].values == Phase.SLIDE)
-    return {k: case[k].values[sel] for k in ("ubar", "Ft", "area")}
+    return {k: case[k].values[sel] for k in ("ubar", "Ft", "area", *(["Ft_over_area"] if "Ft_over_area" in case else []))}
 
 
 def _cases(cases, full_slides: bool | None = None):
@@ -120,6 +120,33 @@ def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, 0.0))
     fig.tight_layout(rect=(0, 0.06, 1, 1))
+    return fig
+
+
+def fig_cap_FtOverA(cases, tau_DI: float | None = None):
+    """Ft/A against ubar (the experiment's shear stress over time, the paper's tauTime panel) for the full slides,
+    one panel per preload, the models per panel; squares at the onset of full sliding; dotted: tau_DI."""
+    full = _cases(cases, full_slides=True)
+    preloads = sorted({f for _, f in full})
+    fig, axes = plt.subplots(1, len(preloads), figsize=(DOUBLE_COLUMN, 2.5), squeeze=False, sharey=True)
+    for ax, F in zip(axes[0], preloads):
+        for model in [m for m, f in full if f == F]:
+            col, ls, label = _model_style(cases, model)
+            c = _slide_curve(cases, model, F)
+            ax.plot(c["ubar"], c["Ft_over_area"], ls, color=col, label=label)
+            onset = float(cases["onset_ubar"].sel(model=model, preload=F))
+            if np.isfinite(onset):
+                ax.plot(onset, np.interp(onset, c["ubar"], c["Ft_over_area"]), "s", color=col, ms=4, mfc="white")
+        if tau_DI:
+            ax.axhline(tau_DI, color="0.5", ls=":", lw=0.8)
+            ax.text(0.02, tau_DI, r" $\tau_\mathrm{DI}$", transform=ax.get_yaxis_transform(), va="bottom", fontsize=7)
+        kind = "compression" if F < 0 else ("tension" if F > 0 else "zero load")
+        ax.set(xlabel=r"tangential displacement $\bar{u}\,/\,L_0$",
+               title=fr"{kind}, $F_\mathrm{{n}}^* = {F:+.3g}$" if F else r"zero load, $F_\mathrm{n}^* = 0$")
+    axes[0, 0].set_ylabel(r"mean shear stress $F_\mathrm{t}\,/\,(A\,E)$")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, 0.0))
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     return fig
 
 

@@ -15,6 +15,7 @@ from scipy.special import expit
 __all__ = [
     "normal_traction_unregularized",
     "normal_traction",
+    "normal_potential",
     "di_threshold",
     "weakening_return_map",
     "ea_g_cut",
@@ -53,6 +54,27 @@ def normal_traction(g, T0: float, r0: float, g_reg: float):
     Tn = np.where(far, Tn, T_reg + dT_reg * (g - g_reg))
     dTn = np.where(far, dTn, dT_reg)
     return Tn, dTn
+
+
+def normal_potential(g, T0: float, r0: float, g_reg: float, g_far: float = np.inf):
+    """Interface energy per reference area of the regularized CGCM traction: phi(g) = int_g^g_far Tn(s) ds for
+    g < g_far, 0 beyond (the law's tail beyond ``g_far`` dropped, as the contact integral drops it), so that
+    dphi/dg = -Tn(g) (energy per area, stress x length).
+
+    Without regularization int_g^inf Tn = T0 [ r0^9 / (360 g^8) - r0^3 / (6 g^2) ]; below g_reg the linear
+    extrapolation of Tn adds Tn(g_reg) (g_reg - g) - Tn'(g_reg) (g_reg - g)^2 / 2 to phi(g_reg).
+    """
+    def tail(x):
+        x = np.asarray(x, dtype=float)
+        return T0 * (r0**9 / (360.0 * x**8) - r0**3 / (6.0 * x**2))
+
+    g = np.asarray(g, dtype=float)
+    T_reg, dT_reg = normal_traction_unregularized(g_reg, T0, r0)
+    d = g_reg - g
+    phi = np.where(g >= g_reg, tail(np.maximum(g, g_reg)), tail(g_reg) + T_reg * d - 0.5 * dT_reg * d * d)
+    if np.isfinite(g_far):
+        phi = np.where(g < g_far, phi - tail(g_far), 0.0)
+    return phi
 
 
 def di_threshold(g, tau: float, k: float, g_cut: float):

@@ -1,8 +1,9 @@
 """One study expansion: a study spec -> its runs, each a run id and the config overrides that make it.
 
-Three kinds of spec share it: the workflow's ``study`` section (models x preloads, case files
-``{model}_Fn{preload:+.3f}``), the stability suite (``config/stability.yaml``) and the convergence study
-(``config/convergence.yaml``, run ids ``{case}/{run}``). Every spec is checked against its schema, and every run's
+Four kinds of spec share it: the workflow's ``study`` section (models x preloads, case files
+``{model}_Fn{preload:+.3f}``), the stability suite (``config/stability.yaml``), the convergence study
+(``config/convergence.yaml``, run ids ``{case}/{run}``) and the options study (``config/options.yaml``, run ids
+``{model}_{option}``). Every spec is checked against its schema, and every run's
 configuration (the config files plus its overrides) is validated, when the workflow is parsed: a bad key or
 value stops before any job runs, with one line naming the spec, the run and the key.
 """
@@ -23,7 +24,7 @@ from . import convergence
 
 __all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
 
-KINDS = ("study", "stability", "convergence")
+KINDS = ("study", "stability", "convergence", "options")
 
 
 @functools.cache
@@ -84,7 +85,21 @@ def _convergence_runs(spec: Mapping) -> dict[str, dict]:
     return out
 
 
-_EXPANDERS = {"study": _study_runs, "stability": _stability_runs, "convergence": _convergence_runs}
+def _options_runs(spec: Mapping) -> dict[str, dict]:
+    models, options = spec["models"], spec["options"]
+    if spec["reference"] not in options:
+        raise ConfigError(f"reference = {spec['reference']!r} is not one of the options ({', '.join(options)})")
+    out = {}
+    for option, o in options.items():
+        for model in o.get("models", list(models)):
+            if model not in models:
+                raise ConfigError(f"options.{option}.models: {model!r} is not one of the models ({', '.join(models)})")
+            out[f"{model}_{option}"] = {**spec.get("base", {}), **models[model], **o.get("set", {})}
+    return out
+
+
+_EXPANDERS = {"study": _study_runs, "stability": _stability_runs, "convergence": _convergence_runs,
+              "options": _options_runs}
 
 
 def runs(spec: Mapping, kind: str) -> dict[str, dict[str, Any]]:
