@@ -21,7 +21,7 @@ COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_sl
           "loading.slide_back=true"]
 STEP_FIELDS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
                "newton_iterations", "krylov_iterations", "traction_t", "slip_state", "gap", "area_reference",
-               "x_stick_left", "x_stick_right", "elastic_energy", "dissipation", "slip")
+               "x_stick_left", "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "slip")
 
 
 class Killed(Exception):

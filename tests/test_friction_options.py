@@ -108,3 +108,21 @@ def test_normal_traction_per_current_area(paper_config):
     areas = [float(d.area[i]) for d, i in zip((ds, paper), preloaded)]
     print("zero-load contact area, theta_k = J_s and 1:", areas, "peak Ft:", float(ds.peak_Ft), float(paper.peak_Ft))
     assert abs(areas[0] / areas[1] - 1.0) > 1e-3
+
+
+def test_energy_balance_closes_to_second_order_in_the_step(paper_config):
+    """Work of the loads = change of elastic, adhesive and penalty energy + dissipation, step by step. The slide
+    (no snap) closes to the accuracy of the trapezoidal work, second order in the step; the jump-in of the
+    approach releases energy that no quasi-static path accounts for (a snap), the same at any approach step."""
+    growth, work = [], []
+    for step in (0.1, 0.05):
+        _, _, ds = case(paper_config, f"loading.max_slide_step={step}")
+        R, W = ds.energy_residual.values, ds.external_work.values
+        first = int(np.flatnonzero(ds.phase.values == Phase.SLIDE)[0])
+        growth.append(abs(R[-1] - R[first - 1]))
+        work.append(W[-1] - W[first - 1])
+        assert np.all(np.abs(np.diff(R[first - 1:])) <= 1e-5 * abs(work[-1]))  # every slide step
+        snap = np.diff(R[:first])
+        assert np.abs(snap).max() > 0.01 and np.sum(np.abs(snap) > 1e-3) == 1  # one step of the approach: the jump-in
+    print("slide: |residual| / work at max_slide_step 0.1, 0.05:", [g / w for g, w in zip(growth, work)])
+    assert growth[1] < growth[0] / 3.0 and growth[1] < 1e-5 * work[1]

@@ -252,6 +252,18 @@ class SurfaceContact:
             active_segments=act, dR_dh=dR_dh, dFn_du=dFn_du, dFn_dh=float(-np.sum(dTn * W)),
         )
 
+    def adhesion_energy(self, u: np.ndarray, h: float) -> float:
+        """The adhesive potential of the interface per unit width (E L0^2), sum of phi(g_n) dA
+        (:func:`capslide.laws.contact.normal_potential`, the tail beyond far_gap dropped as the force drops it;
+        NaN with theta_k = J_s, whose traction has no such potential)."""
+        a = self.adhesion
+        g, _ = self.gaps(u, h)
+        W = self.quad.weight
+        phi = contact.normal_potential(g, a.T0, a.r0, a.g_reg, self.far_gap)
+        if self.repulsion_only:  # max(Tn, 0): the potential of the repulsive part, zero beyond g_eq
+            phi = np.maximum(phi - contact.normal_potential(a.g_eq, a.T0, a.r0, a.g_reg, self.far_gap), 0.0)
+        return float(np.sum(phi * W)) if not self.normal_per_current_area else float("nan")
+
     # -- friction history ---------------------------------------------------
     def anchors_at(self, u: np.ndarray, ubar: float = 0.0) -> np.ndarray:
         """Anchors of every point where it is: zero tangential gap, (s, g)."""

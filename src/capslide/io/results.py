@@ -21,6 +21,7 @@ import yaml
 
 from ..config import flatten
 from ..fem.element import gauss_legendre, line_shape
+from ..fem.interface import SurfaceQuadrature
 from ..fem.mesh import Mesh
 from ..states import Phase, SlipState, flag_attributes
 from ..version import software_version
@@ -32,7 +33,8 @@ __all__ = ["CONVENTIONS", "scaled_units", "quantity", "global_attrs", "write_net
 CONVENTIONS = "CF-1.10"
 STEP_VARIABLES = ("Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right", "newton_iterations",
                   "krylov_iterations", "wall_time", "area_reference", "x_stick_left", "x_stick_right", "Ft_over_area",
-                  "elastic_energy", "dissipation")
+                  "elastic_energy", "dissipation", "adhesion_energy", "penalty_energy", "external_work",
+                  "energy_residual")
 STEP_COORDINATES = ("phase", "ubar", "h")
 CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
 PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state", "slip", "slip_rate")
@@ -125,7 +127,10 @@ def _surface_X(mesh: Mesh, n_gauss: int) -> np.ndarray:
 
 
 def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
-    """Accumulated slip and slip rate per unit ubar of each surface point (slip: the steps' slips, signed)."""
+    """Accumulated slip and slip rate per unit ubar of each surface point in contact (slip: the anchors' moves of
+    the steps, signed)."""
+    state = np.stack([r.slip_state for r in recs]) if recs else np.zeros(slip.shape, dtype=np.int8)
+    slip = np.where((state == SlipState.STICK) | (state == SlipState.SLIP), slip, 0.0)
     dubar = np.diff([r.ubar for r in recs], prepend=recs[0].ubar if recs else 0.0)[:, None]
     rate = np.divide(slip, dubar, out=np.full(slip.shape, np.nan), where=dubar != 0.0)
     return {"slip": (("step", "surface_point"), np.cumsum(np.abs(slip), axis=0),
@@ -133,6 +138,35 @@ def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
             "slip_rate": (("step", "surface_point"), rate,
                           quantity("slip of the step per unit ubar, signed (+x: the cap slips in the sliding "
                                    "direction relative to the substrate; NaN where ubar does not change)", "1"))}
+
+
+def _dissipation(recs, weight: np.ndarray) -> np.ndarray:
+    """Frictional work dissipated up to each step (E L0^2 per width): the sum over steps and surface points of
+    -(T_t before + T_t after) / 2 x the anchors' move x dA. With the trapezoidal work of the loads this closes the
+    energy balance of the return map's elastic-slip split exactly at every step (a spring-slider: T dx = T dx_e +
+    T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty energy T^2 / (2 eps_t))."""
+    if not recs:
+        return np.zeros(0)
+    Tt = np.stack([r.traction_t for r in recs])
+    slip = np.stack([r.slip for r in recs])
+    before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
+    return np.cumsum(-0.5 * ((before + Tt) * slip) @ weight)
+
+
+def _energy_balance(recs, dissipation: np.ndarray, energy: str) -> dict:
+    """The work of the loads on the substrate, int Fn dh + Ft dubar (trapezoidal rule over the steps), and the
+    balance's residual: work - (change of elastic, adhesive and penalty energy) - dissipation."""
+    Fn, Ft, h, ubar = (np.array([getattr(r, k) for r in recs], dtype=float) for k in ("Fn", "Ft", "h", "ubar"))
+    dW = 0.5 * (Fn[1:] + Fn[:-1]) * np.diff(h) + 0.5 * (Ft[1:] + Ft[:-1]) * np.diff(ubar)
+    work = np.concatenate([np.zeros(min(len(recs), 1)), np.cumsum(dW)])
+    stored = np.array([r.elastic_energy + r.adhesion_energy + r.penalty_energy for r in recs], dtype=float)
+    residual = work - (stored - stored[:1]) - dissipation
+    return {"external_work": ("step", work, quantity("work of the loads on the substrate up to the step, per unit "
+                                                     "width: int Fn dh + Ft dubar (trapezoidal rule)", energy,
+                                                     "E L0^2 W")),
+            "energy_residual": ("step", residual, quantity("energy balance: external_work - (elastic + adhesion + "
+                                                           "penalty energy, change from step 0) - dissipation",
+                                                           energy, "E L0^2 W"))}
 
 
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
@@ -156,14 +190,19 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "x_stick_left": quantity("current x of the stick zone's left edge (NaN: nothing sticks)", u["length"], "L0"),
         "x_stick_right": quantity("current x of the stick zone's right edge (NaN: nothing sticks)", u["length"], "L0"),
         "elastic_energy": quantity("strain energy of the cap per unit width", u["energy"], "E L0^2 W"),
+        "adhesion_energy": quantity("adhesive potential of the interface per unit width (NaN with theta_k = J_s)",
+                                    u["energy"], "E L0^2 W"),
+        "penalty_energy": quantity("elastic energy of the tangential penalty per unit width", u["energy"], "E L0^2 W"),
     }
     data = {name: ("step", step(name), attrs) for name, attrs in on_step.items()}
     area = step("area")
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
                             quantity("Ft / area: mean shear stress in contact (NaN without contact)", u["stress"], "E"))
-    data["dissipation"] = ("step", np.cumsum(step("dissipation")),
-                           quantity("frictional work dissipated up to the step, per unit width: sum of -Tt dslip dA",
-                                    u["energy"], "E L0^2 W"))
+    dissipated = _dissipation(recs, SurfaceQuadrature.on(mesh, p.mesh.surface_gauss_points).weight.ravel())
+    data["dissipation"] = ("step", dissipated, quantity("frictional work dissipated up to the step, per unit width: "
+                                                        "sum over steps of -(Tt before + Tt after) / 2 x slip x dA",
+                                                        u["energy"], "E L0^2 W"))
+    data.update(_energy_balance(recs, dissipated, u["energy"]))
     data.update({
         "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
         "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),

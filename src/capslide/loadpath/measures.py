@@ -47,13 +47,14 @@ class StepRecord:
     x_stick_left: float = math.nan  # current x of the stick zone's edges (NaN: nothing sticks)
     x_stick_right: float = math.nan
     elastic_energy: float = math.nan  # strain energy of the bulk (E L0^2 per width)
-    dissipation: float = math.nan  # frictional work dissipated in this step (E L0^2 per width), >= 0
-    slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # slip of the step at each point in contact
+    adhesion_energy: float = math.nan  # adhesive potential of the interface (E L0^2 per width)
+    penalty_energy: float = math.nan  # elastic energy of the tangential penalty (E L0^2 per width)
+    slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
 
 
 RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
                   "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
-                  "x_stick_right", "elastic_energy", "dissipation")
+                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy")
 RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
 
 
@@ -89,13 +90,14 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     slip = np.zeros_like(gg)
     if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
         slip = (c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors).ravel()
-    dissipation = float(-np.sum(Tt.ravel() * slip * c.quad.weight.ravel()))
-    in_contact = (st == SlipState.STICK) | (st == SlipState.SLIP)
+    # the penalty's elastic energy: T_t = -eps_t times the elastic tangential gap after the step
+    penalty = float(np.sum(Tt.ravel() ** 2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
                       model.base_reaction(x), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
-                      elastic_energy=model.bulk.strain_energy(u), dissipation=dissipation,
-                      slip=np.where(in_contact, slip, 0.0))
+                      elastic_energy=model.bulk.strain_energy(u),
+                      adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
+                      slip=slip)
 
 
 def field_snapshot(model: CapModel, x: np.ndarray, ubar: float) -> Snapshot:
