@@ -108,7 +108,7 @@ def test_smoke_workflow_end_to_end(workdir):
                 check_cf(ds, path.name)
     run_documented_examples(workdir)
     for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc",
-                 "cap_Aczoom", "cap_xn"):
+                 "cap_FtOverA", "cap_Aczoom", "cap_xn"):
         for ext in ("pdf", "png"):
             assert (results / "figures" / f"{name}.{ext}").stat().st_size > 5000, name
     # nothing left to do: a second run is a no-op
@@ -133,7 +133,7 @@ def test_smoke_workflow_end_to_end(workdir):
     # deleting one case file reruns that case and what depends on it, nothing else
     (results / "cases" / "EA0_Fn+0.000.nc").unlink()
     dry = snakemake(workdir, "--configfile", "config/smoke.yaml", "-n")
-    assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 2, "all": 1}
+    assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 3, "all": 1}
 
     # an interrupted run (Ctrl-C during the case: the case sends SIGINT to the workflow's process group after its
     # 45th converged step, in the slide) leaves no partial file; the rerun resumes from the checkpoint and completes

@@ -86,3 +86,14 @@ def expand_study(spec, kind, what, skip=()):
 def set_args(overrides):
     """The --set options of a run's overrides (dotted key -> value)."""
     return " ".join(f"--set {shlex.quote(s)}" for s in override_args(overrides))
+
+
+def shared_state(sets):
+    """The preload (+0.000) of the reproduction's normal state that a run of a study with overrides ``sets``
+    starts from, or None (its overrides change the approach or the preload, or no such state is computed).
+    """
+    preload = sets.get("loading.preload", config["loading"]["preload"])
+    name = f"{preload:+.3f}"
+    if shares_normal_state(config, sets) and STATE_PRELOADS.get(name) == preload:
+        return name
+    return None

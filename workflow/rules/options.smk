@@ -9,19 +9,10 @@ OPTIONS_RUNS = expand_study(
 OPTIONS_DIR = "results/studies/options"
 
 
-def options_state(sets):
-    """The normal state (its file's preload, +0.000) a run of the options study starts from, or None."""
-    preload = sets.get("loading.preload", config["loading"]["preload"])
-    name = f"{preload:+.3f}"
-    if shares_normal_state(config, sets) and STATE_PRELOADS.get(name) == preload:
-        return name
-    return None
-
-
 OPTIONS_SHARED = {  # run -> the preload of the normal state it starts from
-    run: options_state(sets)
+    run: shared_state(sets)
     for run, sets in OPTIONS_RUNS.items()
-    if options_state(sets) is not None
+    if shared_state(sets) is not None
 }
 
 

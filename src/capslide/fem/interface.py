@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..laws import contact
-from ..laws.friction import FrictionLaw
+from ..laws.friction import FrictionLaw, ReturnMapSettings
 from ..params import Adhesion
 from ..states import SlipState
 from .element import gauss_legendre, line_shape
@@ -125,16 +125,16 @@ class _Points:
 class SurfaceContact:
     """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h.
 
-    ``law`` is the friction law (None: frictionless), ``eps_t`` the tangential penalty of its return map (E/L0);
-    friction acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. ``weakening``:
-    (static/kinetic ratio, slip-weakening distance D_c in L0) of the law's (kinetic) threshold, or None.
+    ``law`` is the friction law (None: frictionless) and ``return_map`` its penalty and slip weakening; friction
+    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1.
     """
 
     def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
-                 law: FrictionLaw | None = None, eps_t: float = 0.0, contact_gap: float = np.inf,
-                 normal_per_current_area: bool = False, weakening: tuple[float, float] | None = None):
-        self.mesh, self.adhesion, self.law, self.eps_t = mesh, adhesion, law, eps_t
-        self.weakening = weakening
+                 law: FrictionLaw | None = None, return_map: ReturnMapSettings | None = None,
+                 contact_gap: float = np.inf, normal_per_current_area: bool = False):
+        self.mesh, self.adhesion, self.law = mesh, adhesion, law
+        return_map = return_map or ReturnMapSettings(0.0)
+        self.eps_t, self.weakening = return_map.eps_t, return_map.weakening
         self.normal_per_current_area = normal_per_current_area
         self.contact_gap = contact_gap  # points with g_n <= contact_gap count as in contact
         self.quad = SurfaceQuadrature.on(mesh, n_gauss)

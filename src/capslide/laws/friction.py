@@ -17,7 +17,7 @@ import numpy as np
 from ..params import Adhesion, Friction
 from . import contact
 
-__all__ = ["FrictionLaw", "DistanceIndependent", "ExtendedAmontons", "friction_law"]
+__all__ = ["FrictionLaw", "DistanceIndependent", "ExtendedAmontons", "friction_law", "ReturnMapSettings"]
 
 
 class FrictionLaw(Protocol):
@@ -55,6 +55,15 @@ class ExtendedAmontons:
     def threshold(self, g, J):
         T, dT = contact.ea_threshold(g, self.mu, self.g_cut, self.T0, self.r0, self.g_reg)
         return T, dT, np.zeros_like(T)
+
+
+@dataclass(frozen=True)
+class ReturnMapSettings:
+    """How a law's threshold is enforced: the tangential penalty ``eps_t`` (E/L0) and the slip weakening
+    (static/kinetic ratio, slip-weakening distance D_c in L0), None for one threshold."""
+
+    eps_t: float
+    weakening: tuple[float, float] | None = None
 
 
 def friction_law(friction: Friction, adhesion: Adhesion) -> FrictionLaw | None:

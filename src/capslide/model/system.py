@@ -18,7 +18,7 @@ import numpy as np
 from ..fem.assembly import BulkForm, Dirichlet
 from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
-from ..laws.friction import friction_law
+from ..laws.friction import ReturnMapSettings, friction_law
 from ..params import Parameters
 from .constraints import FixedForce
 
@@ -67,10 +67,10 @@ class CapModel:
         self.contact = SurfaceContact(
             mesh, params.adhesion, params.mesh.surface_gauss_points,
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
-            law=friction_law(params.friction, params.adhesion), eps_t=params.friction.eps_t,
+            law=friction_law(params.friction, params.adhesion),
+            return_map=ReturnMapSettings(params.friction.eps_t, params.friction.weakening),
             contact_gap=params.contact.area_gap,
             normal_per_current_area=params.contact.normal_traction_area == "current",
-            weakening=params.friction.weakening,
         )
         self.bc = Dirichlet.on_nodes(mesh.base, self.bulk.pattern)
         self.n_dofs = mesh.n_dofs
