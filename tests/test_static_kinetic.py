@@ -73,3 +73,14 @@ def test_ratio_one_is_the_paper_model(paper_config):
                 "friction.slip_weakening_distance=0.3")
     assert p1.friction.weakening is None and p2.friction.weakening is None
     assert [r.Ft for r in a.records] == [r.Ft for r in b.records]
+
+
+def test_sliding_back_unloads_without_a_false_snap(paper_config):
+    """Back from ubar = 5, |Ft| first falls elastically: not a snap. Fully weakened, the cap slides back at the
+    kinetic threshold."""
+    p, res = run(paper_config, "friction.static_over_kinetic=1.2", "friction.slip_weakening_distance=1.0",
+                 "loading.ubar_max=5.0", "loading.slide_back=true")
+    assert res.status == Status.COMPLETED, res.reason
+    last = res.records[-1]
+    assert last.ubar == 0.0 and last.Ft < 0.0
+    assert abs(-last.Ft / (p.friction.tau_DI * last.area) - 1.0) < 0.005

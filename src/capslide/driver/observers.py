@@ -120,7 +120,7 @@ class Snap(Observer):
         self.records, self.weakening = records, weakening
 
     def end(self, end):
-        if self.weakening is None or end.status != Status.DIVERGED or end.leg not in ("slide", "slide back"):
+        if self.weakening is None or end.status != Status.DIVERGED or end.leg != "slide":
             return end
         last = self.records[-1]
         peak = max((abs(r.Ft) for r in self.records if r.phase == last.phase), default=abs(last.Ft))

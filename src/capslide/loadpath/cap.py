@@ -284,7 +284,8 @@ SNAP_DROP = 0.01  # largest fall of |Ft| in one slide step, relative to the step
 def snap_check(state: PathState, drop: float = SNAP_DROP):
     """With slip weakening, a slide step whose |Ft| falls by more than ``drop`` of the last step's is cut back: a
     smooth fall then passes in short steps, and a fall that persists at the minimum step is a snap (no
-    quasi-static path; the leg ends diverged there, and the case snapped, :class:`capslide.driver.observers.Snap`)."""
+    quasi-static path; the leg ends diverged there, and the case snapped, :class:`capslide.driver.observers.Snap`).
+    Only the forward slide: sliding back unloads |Ft| elastically first."""
     def rejects(rec) -> str | None:
         last = state.marks[-1] if state.marks else None
         if last is None or last.phase != rec.phase or not abs(rec.Ft) < (1.0 - drop) * abs(last.Ft):
@@ -303,7 +304,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar),
-                             rejects=snap_check(state) if model.params.friction.weakening else None))
+                             rejects=snap_check(state) if model.params.friction.weakening and name == "slide" else None))
     return (yield from _run(model, state, steps, after))
 
 
