@@ -139,11 +139,11 @@ def cmd_options(args) -> int:
     from ..studies.convergence import markdown_table
     from ..studies.options import TABLE_COLUMNS, read_cases, table_rows
 
-    spec, runs = read_spec(args.spec, "options")
+    spec, _ = read_spec(args.spec, "options")
     outputs = check_outputs(args.output, {"csv", "md"})
     forces = check_outputs(args.forces or [], {"pdf", "png"})
     edges = check_outputs(args.edges or [], {"pdf", "png"})
-    curves = read_cases(spec, runs, args.cases)
+    curves = read_cases(spec, args.cases)
     rows = table_rows(spec, curves)
     for out in outputs:
         write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))

@@ -95,6 +95,11 @@ class ContactLinearization:
     dFn_dh: float
 
 
+def _stretch(t: np.ndarray, ref_len: np.ndarray) -> np.ndarray:
+    """The surface stretch J_s = |dx/ds| / |dX/ds| from the current tangents (..., 2) and reference lengths."""
+    return np.linalg.norm(t, axis=-1) / ref_len
+
+
 @dataclass
 class _Points:
     """Pointwise contact quantities on the active segments (k, g)."""
@@ -164,7 +169,7 @@ class SurfaceContact:
         if not self.normal_per_current_area:
             return 1.0
         _, t = self.quad.current(u)
-        return np.linalg.norm(t, axis=-1) / self.ref_len
+        return _stretch(t, self.ref_len)
 
     def gaps(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Normal gaps (s, g) and current positions (s, g, 2)."""
@@ -184,10 +189,11 @@ class SurfaceContact:
         near = g < self.far_gap
         Tn, dTn = self.traction(np.where(near, g, self.far_gap))
         pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0), t=t, T_len=self.ref_len[act])
-        J = np.linalg.norm(t, axis=-1) / pts.T_len
+        friction = self.friction_active(anchors)
+        J = _stretch(t, pts.T_len) if friction or self.normal_per_current_area else None
         if self.normal_per_current_area:
             pts.theta = J
-        if self.friction_active(anchors):
+        if friction:
             eps_t = self.eps_t
             thr, dthr_dg, dthr_dJ = (np.where(near, v, 0.0) for v in self.law.threshold(g, J))
             trial = -eps_t * (x[..., 0] - anchors[act] - ubar)

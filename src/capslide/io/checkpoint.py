@@ -122,6 +122,17 @@ def read_signed(path: Path, what: str, error: type[Exception]) -> tuple[dict[str
     return data, meta
 
 
+def read_guarded(load, path: Path, what: str, error: type[Exception]):
+    """``load()``; any failure to read the file (damaged, truncated, foreign) as one ``error`` naming ``what`` and
+    ``path`` (``error`` itself passes through)."""
+    try:
+        return load()
+    except error:
+        raise
+    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
+        raise error(f"cannot read {what} '{path}': {err}") from None
+
+
 def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
     out = {name: np.array([getattr(r, name) for r in records], dtype=float) for name in RECORD_SCALARS}
     out.update({name: np.array([getattr(r, name) for r in records]) for name in RECORD_PROFILES})
@@ -250,9 +261,4 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
 def load_checkpoint(path: str | Path, config_yaml: str) -> SavedCase:
     """Read a checkpoint written for the same configuration and capslide version (CheckpointError otherwise)."""
     path = Path(path)
-    try:
-        return _load(path, config_yaml)
-    except CheckpointError:
-        raise
-    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
-        raise CheckpointError(f"cannot read checkpoint '{path}': {err}") from None
+    return read_guarded(lambda: _load(path, config_yaml), path, "checkpoint", CheckpointError)

@@ -15,14 +15,13 @@ key that differs.
 from __future__ import annotations
 
 import json
-import zipfile
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from ..config import flatten
 from ..states import Status
-from .checkpoint import SavedCase, path_state, read_signed, record_arrays, records_of, state_arrays, write_signed
+from .checkpoint import SavedCase, path_state, read_guarded, read_signed, record_arrays, records_of, state_arrays, write_signed
 
 __all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
            "read_normal_state"]
@@ -104,9 +103,4 @@ def read_normal_state(path: str | Path, config: Mapping) -> SavedCase:
         raise NormalStateError(f"normal state '{path}' is a directory")
     if not path.is_file():
         raise NormalStateError(f"normal state '{path}' does not exist")
-    try:
-        return _load(path, config)
-    except NormalStateError:
-        raise
-    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
-        raise NormalStateError(f"cannot read normal state '{path}': {err}") from None
+    return read_guarded(lambda: _load(path, config), path, "normal state", NormalStateError)

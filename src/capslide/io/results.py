@@ -20,7 +20,6 @@ import xarray as xr
 import yaml
 
 from ..config import flatten
-from ..fem.element import gauss_legendre, line_shape
 from ..fem.interface import SurfaceQuadrature
 from ..fem.mesh import Mesh
 from ..states import Phase, SlipState, flag_attributes
@@ -119,13 +118,6 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: s
     return ds
 
 
-def _surface_X(mesh: Mesh, n_gauss: int) -> np.ndarray:
-    """Reference x of the surface Gauss points, in their order (segments by reference x)."""
-    s, _ = gauss_legendre(n_gauss)
-    N, _ = line_shape(mesh.surface_segments.shape[1] - 1, s)
-    return np.einsum("ga,sa->sg", N, mesh.nodes[mesh.surface_segments, 0]).ravel()
-
-
 def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
     """Accumulated slip and slip rate per unit ubar of each surface point in contact (slip: the anchors' moves of
     the steps, signed)."""
@@ -198,7 +190,8 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     area = step("area")
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
                             quantity("Ft / area: mean shear stress in contact (NaN without contact)", u["stress"], "E"))
-    dissipated = _dissipation(recs, SurfaceQuadrature.on(mesh, p.mesh.surface_gauss_points).weight.ravel())
+    quad = SurfaceQuadrature.on(mesh, p.mesh.surface_gauss_points)  # the surface points, ordered by reference x
+    dissipated = _dissipation(recs, quad.weight.ravel())
     data["dissipation"] = ("step", dissipated, quantity("frictional work dissipated up to the step, per unit width: "
                                                         "sum over steps of -(Tt before + Tt after) / 2 x slip x dA",
                                                         u["energy"], "E L0^2 W"))
@@ -254,7 +247,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "phase": ("step", step("phase", np.int8), flag_attributes(Phase, "load phase")),
         "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u["length"], "L0")),
         "h": ("step", step("h"), quantity("height of the substrate's lower face above the base", u["length"], "L0")),
-        "X_reference": ("surface_point", _surface_X(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
+        "X_reference": ("surface_point", quad.X[..., 0].ravel() if recs else np.zeros(0),
                         quantity("reference x of the surface Gauss point", u["length"], "L0")),
         "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
                           quantity("ubar of the field snapshot", u["length"], "L0")),
