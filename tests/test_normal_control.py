@@ -91,7 +91,7 @@ def test_normal_stiffness_against_finite_differences(paper_config):
     d = 1e-6
     Fn = []
     for sign in (-1.0, 1.0):
-        eq = solve_constrained(model, FixedHeight(x[-1] + sign * d), history, x, newton_options(model))
+        eq, _ = solve_constrained(model, FixedHeight(x[-1] + sign * d), history, x, newton_options(model))
         assert eq.converged
         Fn.append(model.contact.force(eq.x[:-1], eq.x[-1], 0.0, history.anchors)[1])
     assert k > 0.0

@@ -245,11 +245,18 @@ LOCKING_NU = {"Q1": 0.45, "Q2": 0.49}
 
 
 def _check_locking(config: Mapping) -> None:
-    nu, element = config["material"]["nu"], config["mesh"]["element"]
+    """The displacement formulation locks as nu -> 0.5; the mixed one (Q2/P1) does not, and needs Q2."""
+    nu, element, formulation = config["material"]["nu"], config["mesh"]["element"], config["mesh"]["formulation"]
+    if formulation == "mixed":
+        if element != "Q2":
+            raise ConfigError(f"mesh.formulation = mixed needs mesh.element = Q2, not {element} (Q2/P1)")
+        return
+    if nu == 0.5:
+        raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2")
     if nu > LOCKING_NU[element] and config["limits"]["refuse_locking"]:
-        other = "Q2" if element == "Q1" else None
-        advice = (f"use mesh.element = Q2 (free of locking up to nu = {LOCKING_NU['Q2']}) or nu <= {LOCKING_NU[element]}"
-                  if other else f"use nu <= {LOCKING_NU[element]} (no element computes closer to 0.5 yet)")
+        advice = (f"use mesh.formulation = mixed with mesh.element = Q2 (Q2/P1, free of locking up to nu = 0.5)"
+                  f"{' or mesh.element = Q2 (up to nu = ' + str(LOCKING_NU['Q2']) + ')' if element == 'Q1' else ''}"
+                  f" or nu <= {LOCKING_NU[element]}")
         raise ConfigError(f"material.nu = {nu!r} is not allowed with mesh.element = {element}: the element locks beyond "
                           f"nu = {LOCKING_NU[element]} (benchmarks/locking.py); {advice} (limits.refuse_locking)")
 

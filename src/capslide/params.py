@@ -52,8 +52,8 @@ def cgcm_constants(T_max: float, W_adh: float) -> dict[str, float]:
 
 
 def lame_plane_strain(E: float, nu: float) -> tuple[float, float]:
-    """Lame constants (Lambda, mu) from Young's modulus and Poisson's ratio."""
-    lam = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    """Lame constants (Lambda, mu) from Young's modulus and Poisson's ratio; Lambda = inf at nu = 0.5."""
+    lam = math.inf if nu == 0.5 else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
     mu = E / (2.0 * (1.0 + nu))
     return lam, mu
 
@@ -161,6 +161,7 @@ class MeshSpec:
     surface_gauss_points: int
     band_half_width: float | None
     max_size_over_H: float = 0.25
+    formulation: str = "displacement"  # or "mixed" (Q2/P1, fem.mixed)
 
 
 @dataclass(frozen=True)
@@ -259,7 +260,7 @@ class Parameters:
                 element=msh["element"], size=float(msh["size"]),
                 surface_gauss_points=int(msh["surface_gauss_points"]),
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
-                max_size_over_H=float(msh["max_size_over_H"]),
+                max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
             ),
             loading=Loading(
                 preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),

@@ -62,16 +62,16 @@ class Snapshots(Observer):
         """Take the snapshot at ubar = 0 now when the path starts where the slide starts (a normal state), unless
         it was taken before (a checkpoint saved there)."""
         if self._starts_slide(state) and not any(sn.ubar == 0.0 for sn in self.snapshots):
-            self.snapshots.append(field_snapshot(self.model, state.x, 0.0))
+            self.snapshots.append(field_snapshot(self.model, state.x, 0.0, state.history))
 
     def _starts_slide(self, state: PathState) -> bool:
         return self.at_start and state.leg == "slide" and state.loop is None
 
     def step(self, step):
         if self._starts_slide(step.state):  # this state starts the slide
-            self.snapshots.append(field_snapshot(self.model, step.x, 0.0))
+            self.snapshots.append(field_snapshot(self.model, step.x, 0.0, step.state.history))
         if step.breakpoint is not None:
-            self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint))
+            self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint, step.state.history))
 
 
 class OnsetStop(Observer):

@@ -155,8 +155,8 @@ class BulkForm:
         e, q = P.shape[:2]
         return self._gather(self._dNw_cell @ np.swapaxes(P, -1, -2).reshape(e, q * 2, 2))
 
-    def residual(self, u: np.ndarray) -> np.ndarray:
-        """Internal force vector f_int (E L0), node-major."""
+    def residual(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
+        """Internal force vector f_int (E L0), node-major (``multiplier``: unused here, see fem.mixed)."""
         return self.internal_force(material.first_piola(self.deformation_gradient(u), self.lam, self.mu))
 
     @property
@@ -184,28 +184,27 @@ class BulkForm:
             K = (S @ np.swapaxes(self.dN, -1, -2)).sum(axis=1).reshape(e, a, 2, 2, a).transpose(0, 1, 2, 4, 3)
         return K.reshape(e, 2 * a, 2 * a)
 
-    def residual_and_tangent_data(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def residual_and_tangent_data(self, u: np.ndarray, multiplier: np.ndarray | None = None
+                                  ) -> tuple[np.ndarray, np.ndarray]:
         """(f_int, CSR data of the tangent) for the fixed pattern."""
         P, A = material.first_piola_and_tangent(self.deformation_gradient(u), self.lam, self.mu)
         return self.internal_force(P), self.pattern.values(self.element_tangents(A))
 
-    def residual_and_tangent(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
-        f, data = self.residual_and_tangent_data(u)
+    def residual_and_tangent(self, u: np.ndarray, multiplier: np.ndarray | None = None
+                             ) -> tuple[np.ndarray, sp.csr_matrix]:
+        f, data = self.residual_and_tangent_data(u, multiplier)
         return f, self.pattern.matrix(data)
 
-    def strain_energy(self, u: np.ndarray) -> float:
+    def strain_energy(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> float:
         """Total strain energy per unit width (E L0^2)."""
-        F = self.deformation_gradient(u)
-        J = material.det2(F)
-        I1 = np.einsum("...ij,...ij->...", F, F) + 1.0
-        W = 0.25 * self.lam * (J**2 - 1 - 2 * np.log(J)) + 0.5 * self.mu * (I1 - 3 - 2 * np.log(J))
+        W = material.strain_energy_density(self.deformation_gradient(u), self.lam, self.mu)
         return float(np.sum(W * self.wdetJ))
 
     def min_jacobian(self, u: np.ndarray) -> float:
         """Smallest det F over the quadrature points (<= 0 means an inverted element)."""
         return float(material.det2(self.deformation_gradient(u)).min())
 
-    def cell_first_invariant(self, u: np.ndarray) -> np.ndarray:
+    def cell_first_invariant(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
         """I1(sigma) averaged over each cell's quadrature points (E), (n_cells,)."""
         I1 = material.first_invariant(self.deformation_gradient(u), self.lam, self.mu)
         return np.sum(I1 * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)

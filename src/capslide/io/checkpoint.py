@@ -152,7 +152,8 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
 
 
 def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
-    """A path state as arrays (current state, loop states, anchors) and JSON-able header entries."""
+    """A path state as arrays (current state, loop states, friction and pressure history) and JSON-able header
+    entries."""
     arrays = {"x": s.x}
     if s.loop is not None:
         arrays["loop_x"] = s.loop.x
@@ -162,6 +163,8 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         arrays["anchors"] = s.history.anchors
     if s.history.slip is not None:
         arrays["accumulated_slip"] = s.history.slip
+    if s.history.pressure is not None:
+        arrays["pressure_multiplier"] = s.history.pressure
     loop = None if s.loop is None else {
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
@@ -176,7 +179,7 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     lm = meta["loop"]
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
-    history = History(data.get("anchors"), data.get("accumulated_slip"))
+    history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
                      meta.get("stage_h"))

@@ -12,7 +12,8 @@ import numpy as np
 
 _IDENTITY4 = np.einsum("ik,jl->ijkl", np.eye(2), np.eye(2))  # delta_ik delta_JL
 
-__all__ = ["det2", "inv_transpose2", "first_piola", "first_piola_and_tangent", "cauchy", "cauchy_zz", "first_invariant"]
+__all__ = ["det2", "inv_transpose2", "strain_energy_density",
+           "first_piola", "first_piola_and_tangent", "cauchy", "cauchy_zz", "first_invariant"]
 
 
 def det2(F: np.ndarray) -> np.ndarray:
@@ -29,6 +30,13 @@ def inv_transpose2(F: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
     G[..., 1, 0] = -F[..., 0, 1]
     G[..., 1, 1] = F[..., 0, 0]
     return G / J[..., None, None]
+
+
+def strain_energy_density(F: np.ndarray, lam: float, mu: float) -> np.ndarray:
+    """W(F) = Lambda/4 (J^2 - 1 - 2 ln J) + mu/2 (I1 - 3 - 2 ln J), I1 = tr F^T F + 1 (energy per reference area)."""
+    J = det2(F)
+    I1 = np.einsum("...ij,...ij->...", F, F) + 1.0
+    return 0.25 * lam * (J**2 - 1 - 2 * np.log(J)) + 0.5 * mu * (I1 - 3 - 2 * np.log(J))
 
 
 def first_piola(F: np.ndarray, lam: float, mu: float) -> np.ndarray:

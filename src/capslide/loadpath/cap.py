@@ -312,7 +312,7 @@ def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
     L = model.params.loading
     if state.loop is None:  # the stage is set; friction acts from here on (default): every point anchored where it is
         if model.params.friction.active_from == "slide":
-            state.history = model.start_friction(state.x, 0.0)
+            state.history = model.start_friction(state.x, 0.0, state.history)
         state.stage_h = float(state.x[-1])
     after = "slide back" if L.slide_back else "done"
     return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))

@@ -114,11 +114,33 @@ def newton_options(model: CapModel) -> NewtonOptions:
     return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
 
 
+MAX_UZAWA = 30  # Uzawa updates of the pressure multiplier per step (nu = 0.5) before the step counts as failed
+
+
 def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndarray,
-                      opts: NewtonOptions) -> NewtonResult:
-    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1)."""
-    return newton(lambda z: model.residual(z, constraint, history), lambda z: model.linearize(z, constraint, history),
-                  x0, opts, r_ref=1.0, admissible=model.admissible)
+                      opts: NewtonOptions) -> tuple[NewtonResult, History]:
+    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1), and the history
+    with the pressure multiplier it converged with: at nu = 0.5 Newton runs again after each of Uzawa's updates
+    of the multiplier until the volume constraint holds (fem.mixed). Iterations are summed over the runs."""
+    def solve(hist: History, x: np.ndarray) -> NewtonResult:
+        return newton(lambda z: model.residual(z, constraint, hist), lambda z: model.linearize(z, constraint, hist),
+                      x, opts, r_ref=1.0, admissible=model.admissible)
+
+    res = solve(history, x0)
+    for _ in range(MAX_UZAWA):
+        updated = model.updated_pressure(res.x, history) if res.converged else None
+        if updated is None:
+            return res, history
+        history = updated
+        more = solve(history, res.x)
+        more.iterations += res.iterations
+        more.linear_iterations += res.linear_iterations
+        more.residual_norms = res.residual_norms + more.residual_norms
+        res = more
+    if res.converged and model.updated_pressure(res.x, history) is not None:
+        res.converged = False
+        res.reason = f"volume constraint not met after {MAX_UZAWA} Uzawa updates"
+    return res, history
 
 
 def continuation(model: CapModel, loop: Loop, history: History,
@@ -145,11 +167,11 @@ def continuation(model: CapModel, loop: Loop, history: History,
             if not model.admissible(x0):
                 x0 = loop.x
         c = leg.constraint_of(target)
-        res = solve_constrained(model, c, history, x0, opts)
+        res, solved = solve_constrained(model, c, history, x0, opts)
         reason = res.reason
         rec = None
         if res.converged:
-            rec = measure(model, res.x, history, leg.phase, c.ubar, res.iterations, res.linear_iterations,
+            rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
                           time.perf_counter() - t0)
             rejected = leg.rejects(rec) if leg.rejects is not None else None
             if rejected is not None:
@@ -168,7 +190,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
         loop.smallest = min(loop.smallest, loop.step)
-        history = model.commit(loop.x, c.ubar, history)  # friction history only at converged steps
+        history = model.commit(loop.x, c.ubar, solved)  # friction history only at converged steps
         landed = None
         if loop.pending and target == loop.pending[0]:
             landed = loop.pending.pop(0)

@@ -94,16 +94,18 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     penalty = float(np.sum(Tt.ravel() ** 2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
-                      model.base_reaction(x), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
-                      elastic_energy=model.bulk.strain_energy(u),
+                      model.base_reaction(x, history), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
+                      elastic_energy=model.bulk.strain_energy(u, history.pressure),
                       adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
                       slip=slip)
 
 
-def field_snapshot(model: CapModel, x: np.ndarray, ubar: float) -> Snapshot:
-    """Nodal displacements and the cell-averaged I1(sigma) of the state x."""
+def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
+    """Nodal displacements and the cell-averaged I1(sigma) of the state x (``history``: its pressure
+    multiplier)."""
     u = x[:-1]
-    return Snapshot(ubar, u.reshape(-1, 2).copy(), model.bulk.cell_first_invariant(u))
+    pressure = None if history is None else history.pressure
+    return Snapshot(ubar, u.reshape(-1, 2).copy(), model.bulk.cell_first_invariant(u, pressure))
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:

@@ -32,5 +32,6 @@ def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None
     linear solver ``solver`` (default: ``solver.linear``) given the rigid-body modes as near-null space."""
     mesh = mesh or cap_mesh(cap_mesh_spec(params))
     linear = make_solver(solver or params.solver.linear, rtol=params.solver.krylov_rtol,
-                         near_null_space=rigid_body_modes(mesh.nodes))
+                         near_null_space=rigid_body_modes(mesh.nodes),
+                         diagonal_pivoting=params.mesh.formulation == "mixed")
     return CapModel(mesh, params, linear)

@@ -11,13 +11,14 @@ two solves on the same matrix K (K z1 = R, K z2 = c) and the scalar Schur comple
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..fem.assembly import BulkForm, Dirichlet
 from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
+from ..fem.mixed import VOLUME_TOLERANCE, MixedBulkForm
 from ..laws.friction import ReturnMapSettings, friction_law
 from ..params import Parameters
 from .constraints import FixedForce
@@ -27,11 +28,13 @@ __all__ = ["History", "BorderedSolve", "CapModel"]
 
 @dataclass(frozen=True)
 class History:
-    """State variables that change only at converged steps: the friction anchors (s, g), None before friction, and
-    with slip weakening each point's accumulated slip (s, g), None without."""
+    """State variables that change only at converged steps: the friction anchors (s, g), None before friction;
+    with slip weakening each point's accumulated slip (s, g), None without; at nu = 0.5 the augmented Lagrangian's
+    pressure multiplier (n_cells, 3; P1 coefficients, E), None = zero (fem.mixed)."""
 
     anchors: np.ndarray | None = None
     slip: np.ndarray | None = None
+    pressure: np.ndarray | None = None
 
 
 class BorderedSolve:
@@ -63,7 +66,8 @@ class CapModel:
     def __init__(self, mesh: Mesh, params: Parameters, solver):
         self.mesh, self.params, self.solver = mesh, params, solver
         m = params.material
-        self.bulk = BulkForm(mesh, m.lam, m.mu)
+        mixed = params.mesh.formulation == "mixed"
+        self.bulk = MixedBulkForm(mesh, m.lam, m.mu) if mixed else BulkForm(mesh, m.lam, m.mu)
         self.contact = SurfaceContact(
             mesh, params.adhesion, params.mesh.surface_gauss_points,
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
@@ -117,13 +121,13 @@ class CapModel:
     def residual(self, x: np.ndarray, constraint, history: History) -> np.ndarray:
         u, h = self.split(x)
         f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors, history.slip)
-        r = self.bulk.residual(u) - f_c
+        r = self.bulk.residual(u, history.pressure) - f_c
         r[self.bc.dofs] = 0.0
         return np.concatenate([r, [constraint.residual(self, x, Fn)]])
 
     def linearize(self, x: np.ndarray, constraint, history: History) -> tuple[np.ndarray, BorderedSolve]:
         u, h = self.split(x)
-        f_int, data = self.bulk.residual_and_tangent_data(u)
+        f_int, data = self.bulk.residual_and_tangent_data(u, history.pressure)
         lin = self.contact.linearize(u, h, constraint.ubar, history.anchors, history.slip)
         np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
         r = f_int - lin.f
@@ -144,21 +148,30 @@ class CapModel:
         return float(solve.e - solve.d @ z)
 
     # -- friction history ---------------------------------------------------
-    def start_friction(self, x: np.ndarray, ubar: float = 0.0) -> History:
-        """The history with every surface point anchored where it is (friction acts from here on)."""
+    def start_friction(self, x: np.ndarray, ubar: float = 0.0, history: History | None = None) -> History:
+        """``history`` (default: none) with every surface point anchored where it is (friction acts from here on)."""
         anchors = self.contact.anchors_at(x[:-1], ubar)
-        return History(anchors, None if self.contact.weakening is None else np.zeros_like(anchors))
+        slip = None if self.contact.weakening is None else np.zeros_like(anchors)
+        return replace(history or History(), anchors=anchors, slip=slip)
 
     def commit(self, x: np.ndarray, ubar: float, history: History) -> History:
         """The history after the converged state x (slipping points' anchors follow the return map, and their
         accumulated slip grows by the anchors' move)."""
         anchors = self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors, history.slip)
         if history.slip is None:
-            return History(anchors)
-        return History(anchors, history.slip + np.abs(anchors - history.anchors))
+            return replace(history, anchors=anchors)
+        return replace(history, anchors=anchors, slip=history.slip + np.abs(anchors - history.anchors))
+
+    def updated_pressure(self, x: np.ndarray, history: History) -> History | None:
+        """At nu = 0.5, Uzawa's update of the pressure multiplier (lambda <- p) while max |theta - 1| exceeds
+        fem.mixed.VOLUME_TOLERANCE at the converged state x; None when the constraint holds (or nothing is
+        incompressible)."""
+        if not getattr(self.bulk, "incompressible", False) or self.bulk.volume_error(x[:-1]) <= VOLUME_TOLERANCE:
+            return None
+        return replace(history, pressure=self.bulk.pressure_coefficients(x[:-1], history.pressure))
 
     # -- measures of a state ----------------------------------------------
-    def base_reaction(self, x: np.ndarray) -> np.ndarray:
-        """Sum of the internal forces at the clamped base nodes (x, y), E L0."""
-        f = self.bulk.residual(x[:-1]).reshape(-1, 2)
+    def base_reaction(self, x: np.ndarray, history: History | None = None) -> np.ndarray:
+        """Sum of the internal forces at the clamped base nodes (x, y), E L0 (``history``: its pressure multiplier)."""
+        f = self.bulk.residual(x[:-1], None if history is None else history.pressure).reshape(-1, 2)
         return f[self.mesh.base].sum(axis=0)

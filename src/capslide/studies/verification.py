@@ -254,10 +254,10 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
         t = w0 / (w0 - w1)
         X, guess = X0 + t * (X1 - X0), x0 + t * (x1 - x0)
         c = FixedEdgeGap(X, p.loading.approach_end_gap)
-        res = solve_constrained(model, c, History(), guess, opts)
+        res, _ = solve_constrained(model, c, History(), guess, opts)
         its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:  # once more from the nearer bracketing state
-            res = solve_constrained(model, c, History(), x0 if t < 0.5 else x1, opts)
+            res, _ = solve_constrained(model, c, History(), x0 if t < 0.5 else x1, opts)
             its, lin = its + res.iterations, lin + res.linear_iterations
         if not res.converged:
             raise VerificationFailed(f"at P = {P}: edge-controlled solve at X = {X:.6g} failed ({res.reason})")
@@ -273,10 +273,10 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
     else:
         raise VerificationFailed(f"at P = {P}: load not bracketed to {tol:.2g} in {max_solves} edge-controlled solves")
     c = FixedForce(-P)
-    res = solve_constrained(model, c, History(), x, opts)
+    res, solved = solve_constrained(model, c, History(), x, opts)
     if not res.converged:
         raise VerificationFailed(f"at P = {P}: force-controlled solve failed ({res.reason})")
-    rec = measure(model, res.x, History(), Phase.PRELOAD, 0.0, its + res.iterations, lin + res.linear_iterations,
+    rec = measure(model, res.x, solved, Phase.PRELOAD, 0.0, its + res.iterations, lin + res.linear_iterations,
                   time.perf_counter() - t0)
     records.append(rec)
     if progress:
