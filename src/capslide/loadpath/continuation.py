@@ -136,6 +136,7 @@ def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndar
         more.iterations += res.iterations
         more.linear_iterations += res.linear_iterations
         more.residual_norms = res.residual_norms + more.residual_norms
+        more.runs += res.runs
         res = more
     if res.converged and model.updated_pressure(res.x, history) is not None:
         res.converged = False
@@ -197,7 +198,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         status = ends(rec) if ends is not None else None
         leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
         if leg_end is None:
-            if res.iterations <= control.easy_iterations:
+            if res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's re-solves)
                 loop.step = min(loop.step * control.growth, control.maximum)
             if not direction * (end - loop.value) > tol:
                 leg_end = LegEnd(Status.COMPLETED)

@@ -38,6 +38,7 @@ class NewtonResult:
     reason: str
     residual_norms: list[float] = field(default_factory=list)
     linear_iterations: int = 0
+    runs: int = 1  # Newton runs whose iterations are summed here (a caller's re-solves)
 
 
 def _norm(r: np.ndarray) -> float:
