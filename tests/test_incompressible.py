@@ -12,9 +12,12 @@ from capslide.fem.assembly import BulkForm
 from capslide.fem.mesh import rectangle_mesh
 from capslide.fem.mixed import VOLUME_TOLERANCE, MixedBulkForm
 from capslide.io.checkpoint import path_state, state_arrays
-from capslide.loadpath.cap import PathState
+from capslide.loadpath.cap import PathState, load_path
+from capslide.loadpath.continuation import drain
+from capslide.model.build import build_model
 from capslide.model.system import History
 from capslide.params import Parameters
+from capslide.states import Status
 from capslide.studies import membrane
 from capslide.studies.verification import sweep
 
@@ -140,3 +143,17 @@ def test_hertz_line_contact_of_an_incompressible_body():
     rows = {r.quantity: r for r in sweep(Parameters.from_config(cfg), "hertz")}
     assert rows["half_width"].theory == pytest.approx(np.sqrt(4 * 0.3 * 200.0 / (np.pi * 4.0 / 3.0)), rel=1e-12)
     assert abs(rows["half_width"].rel_error) < 0.01
+
+
+def test_the_load_path_meets_the_volume_constraint_at_nu_one_half():
+    """Every converged step of the load path ends Uzawa's iteration: max |theta - 1| <= VOLUME_TOLERANCE, with the
+    multiplier carried in the history (the Hertz scene, coarse, preloaded to P = 0.05). About 5 s."""
+    cfg = load_config([ROOT / "config" / "scenes" / "hertz.yaml"],
+                      ["mesh.size=80", "material.nu=0.5", "mesh.formulation=mixed", "loading.preload=-0.05"])
+    model = build_model(Parameters.from_config(cfg))
+    steps = []
+    assert drain(load_path(model, stop_before="slide"), steps.append).status == Status.COMPLETED
+    for step in steps[-3:]:
+        assert model.bulk.volume_error(step.x[:-1]) <= VOLUME_TOLERANCE
+    assert np.abs(steps[-1].state.history.pressure).max() > 0.0
+    assert steps[-1].record.Fn == pytest.approx(-0.05, abs=1e-9)
