@@ -144,7 +144,8 @@ class AMGSolver:
 def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
     """SuperLU factors of A; ``diagonal_pivoting`` keeps the pivots on the diagonal (SuperLU's symmetric mode), so
     the fill-reducing order holds. Partial pivoting leaves it on the mixed bulk at nu = 0.5, whose penalty entries
-    are 1e3 times the rest: 14 times the fill of L + U and 45 times the time on the paper's cap (Q2, size 32)."""
+    dwarf the rest: with kappa = 1000 mu, 14 times the fill of L + U and 45 times the time on the paper's cap (Q2,
+    mesh.size 32)."""
     if diagonal_pivoting:
         return spla.splu(A.tocsc(), permc_spec=permc_spec, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     return spla.splu(A.tocsc(), permc_spec=permc_spec)
