@@ -114,15 +114,19 @@ def test_energy_balance_closes_to_second_order_in_the_step(paper_config):
     """Work of the loads = change of elastic, adhesive and penalty energy + dissipation, step by step. The slide
     (no snap) closes to the accuracy of the trapezoidal work, second order in the step; the jump-in of the
     approach releases energy that no quasi-static path accounts for (a snap), the same at any approach step."""
-    growth, work = [], []
+    growth, work, worst = [], [], []
     for step in (0.1, 0.05):
         _, _, ds = case(paper_config, f"loading.max_slide_step={step}")
         R, W = ds.energy_residual.values, ds.external_work.values
         first = int(np.flatnonzero(ds.phase.values == Phase.SLIDE)[0])
         growth.append(abs(R[-1] - R[first - 1]))
         work.append(W[-1] - W[first - 1])
-        assert np.all(np.abs(np.diff(R[first - 1:])) <= 1e-5 * abs(work[-1]))  # every slide step
+        worst.append(np.abs(np.diff(R[first - 1:])).max() / abs(work[-1]))  # the worst slide step
         snap = np.diff(R[:first])
         assert np.abs(snap).max() > 0.01 and np.sum(np.abs(snap) > 1e-3) == 1  # one step of the approach: the jump-in
-    print("slide: |residual| / work at max_slide_step 0.1, 0.05:", [g / w for g, w in zip(growth, work)])
+    print("slide: |residual| / work at max_slide_step 0.1, 0.05:", [g / w for g, w in zip(growth, work)],
+          "worst step:", worst)
     assert growth[1] < growth[0] / 3.0 and growth[1] < 1e-5 * work[1]
+    # every step to 1e-6 of the work at max_slide_step 0.05 (measured 2.5e-7; 1.8e-6 at 0.1): the local error
+    # of the trapezoidal work is third order in the step
+    assert worst[1] <= 1e-6 and worst[1] < worst[0] / 4.0
