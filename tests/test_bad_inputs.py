@@ -179,7 +179,8 @@ LIMITS = [  # configurations that validate but must not be computed
     (["material.E=1e-310"], ["material.E = 1e-310", "not computable"]),
     (["adhesion.W_adh=1e-320"], ["adhesion.W_adh = 1e-320", "not computable"]),
     (["material.nu=0.4999"], ["material.nu = 0.4999", "mesh.element = Q2", "locks"]),
-    (["material.nu=0.49", "preset=fast"], ["material.nu = 0.49", "mesh.element = Q1", "locks", "use mesh.formulation = mixed", "mesh.element = Q2"]),
+    (["material.nu=0.49", "preset=fast"], ["material.nu = 0.49", "mesh.element = Q1", "locks",
+                                           "use mesh.formulation = mixed", "mesh.element = Q2"]),
     (["material.nu=0.46", "mesh.element=Q1"], ["material.nu = 0.46", "Q1"]),
 ]
 
