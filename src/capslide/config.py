@@ -254,8 +254,8 @@ def _check_locking(config: Mapping) -> None:
     if nu == 0.5:
         raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2")
     if nu > LOCKING_NU[element] and config["limits"]["refuse_locking"]:
-        advice = (f"use mesh.formulation = mixed with mesh.element = Q2 (Q2/P1, free of locking up to nu = 0.5)"
-                  f"{' or mesh.element = Q2 (up to nu = ' + str(LOCKING_NU['Q2']) + ')' if element == 'Q1' else ''}"
+        q2 = f" or mesh.element = Q2 (up to nu = {LOCKING_NU['Q2']})" if element == "Q1" else ""
+        advice = (f"use mesh.formulation = mixed with mesh.element = Q2 (Q2/P1, free of locking up to nu = 0.5){q2}"
                   f" or nu <= {LOCKING_NU[element]}")
         raise ConfigError(f"material.nu = {nu!r} is not allowed with mesh.element = {element}: the element locks beyond "
                           f"nu = {LOCKING_NU[element]} (benchmarks/locking.py); {advice} (limits.refuse_locking)")

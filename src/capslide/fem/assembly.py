@@ -200,6 +200,11 @@ class BulkForm:
         W = material.strain_energy_density(self.deformation_gradient(u), self.lam, self.mu)
         return float(np.sum(W * self.wdetJ))
 
+    def updated_multiplier(self, u: np.ndarray, multiplier: np.ndarray | None) -> np.ndarray | None:
+        """Uzawa's next pressure multiplier while an incompressibility constraint is violated; None here (no
+        constraint; see fem.mixed)."""
+        return None
+
     def min_jacobian(self, u: np.ndarray) -> float:
         """Smallest det F over the quadrature points (<= 0 means an inverted element)."""
         return float(material.det2(self.deformation_gradient(u)).min())

@@ -96,6 +96,13 @@ class MixedBulkForm(BulkForm):
         """max |theta - 1| over the quadrature points: how far the incompressibility constraint is from holding."""
         return float(np.max(np.abs(self.dilatation(u) - 1.0)))
 
+    def updated_multiplier(self, u: np.ndarray, multiplier: np.ndarray | None) -> np.ndarray | None:
+        """At nu = 0.5, Uzawa's update lambda <- p while max |theta - 1| > VOLUME_TOLERANCE; None once the constraint
+        holds (or with a finite Lambda, which has no constraint)."""
+        if not self.incompressible or self.volume_error(u) <= VOLUME_TOLERANCE:
+            return None
+        return self.pressure_coefficients(u, multiplier)
+
     # -- forces and tangent ----------------------------------------------------
     def _stress(self, u, multiplier):
         F = self.deformation_gradient(u)
@@ -103,19 +110,19 @@ class MixedBulkForm(BulkForm):
         cof = J[..., None, None] * material.inv_transpose2(F, J)  # dJ/dF = J F^-T
         theta = self.project(J)
         _, dU, d2U = self._volumetric(theta, multiplier)
-        return F, cof, self.project(dU), d2U
+        return F, J, cof, self.project(dU), d2U
 
     def residual(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
-        F, cof, p, _ = self._stress(u, multiplier)
+        F, _, cof, p, _ = self._stress(u, multiplier)
         return self.internal_force(material.first_piola(F, 0.0, self.mu) + p[..., None, None] * cof)
 
     def residual_and_tangent_data(self, u: np.ndarray, multiplier: np.ndarray | None = None):
         """(f_int, CSR data of the consistent tangent): the material part plus p d(J F^-T)/dF, plus the
         condensed rank-3 block B^T M^-1 H M^-1 B of each cell (B_m = int Np_m dJ/du, H = int Np U'' Np^T)."""
-        F, cof, p, d2U = self._stress(u, multiplier)
+        F, J, cof, p, d2U = self._stress(u, multiplier)
         P, A = material.first_piola_and_tangent(F, 0.0, self.mu)
         P = P + p[..., None, None] * cof
-        G = cof / material.det2(F)[..., None, None]
+        G = cof / J[..., None, None]
         # d(J G_iJ)/dF_kL = J (G_iJ G_kL - G_iL G_kJ)
         GG = np.einsum("eqiJ,eqkL->eqiJkL", cof, G)
         A = A + p[..., None, None, None, None] * (GG - GG.transpose(0, 1, 2, 5, 4, 3))
@@ -139,8 +146,6 @@ class MixedBulkForm(BulkForm):
         return min(super().min_jacobian(u), float(self.dilatation(u).min()))
 
     def cell_first_invariant(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
-        """I1(sigma) averaged over each cell (E): mu/J tr(b - I) in the plane plus 3 p (sigma_zz = p)."""
-        F = self.deformation_gradient(u)
-        J = material.det2(F)
-        I1 = self.mu / J * (np.einsum("...ij,...ij->...", F, F) - 2.0) + 3.0 * self.pressure(u, multiplier)
+        """I1(sigma) averaged over each cell (E): the deviatoric part's (Lambda = 0) plus 3 p (sigma_zz = p)."""
+        I1 = material.first_invariant(self.deformation_gradient(u), 0.0, self.mu) + 3.0 * self.pressure(u, multiplier)
         return np.sum(I1 * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)

@@ -18,7 +18,7 @@ import numpy as np
 from ..fem.assembly import BulkForm, Dirichlet
 from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
-from ..fem.mixed import VOLUME_TOLERANCE, MixedBulkForm
+from ..fem.mixed import MixedBulkForm
 from ..laws.friction import ReturnMapSettings, friction_law
 from ..params import Parameters
 from .constraints import FixedForce
@@ -166,9 +166,8 @@ class CapModel:
         """At nu = 0.5, Uzawa's update of the pressure multiplier (lambda <- p) while max |theta - 1| exceeds
         fem.mixed.VOLUME_TOLERANCE at the converged state x; None when the constraint holds (or nothing is
         incompressible)."""
-        if not getattr(self.bulk, "incompressible", False) or self.bulk.volume_error(x[:-1]) <= VOLUME_TOLERANCE:
-            return None
-        return replace(history, pressure=self.bulk.pressure_coefficients(x[:-1], history.pressure))
+        multiplier = self.bulk.updated_multiplier(x[:-1], history.pressure)
+        return None if multiplier is None else replace(history, pressure=multiplier)
 
     # -- measures of a state ----------------------------------------------
     def base_reaction(self, x: np.ndarray, history: History | None = None) -> np.ndarray:
