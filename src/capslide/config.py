@@ -261,9 +261,25 @@ def _check_locking(config: Mapping) -> None:
                           f"nu = {LOCKING_NU[element]} (benchmarks/locking.py); {advice} (limits.refuse_locking)")
 
 
+def _check_viscoelastic(config: Mapping) -> None:
+    """The viscous branches need time (a velocity), and branches are given only for the viscoelastic law."""
+    mat, load = config["material"], config["loading"]
+    if mat["model"] == "viscoelastic":
+        if not mat["prony"]:
+            raise ConfigError("material.prony = [] is not allowed with material.model = viscoelastic: give at least "
+                              "one branch {g, tau}")
+        if load["velocity"] is None:
+            raise ConfigError("loading.velocity = None is not allowed with material.model = viscoelastic: the "
+                              "branches relax in time; give the stage's speed (m/s)")
+    elif mat["prony"]:
+        raise ConfigError(f"material.prony = {mat['prony']!r} is not allowed with material.model = {mat['model']}: "
+                          "the branches need material.model = viscoelastic")
+
+
 def _check_consistency(config: Mapping) -> None:
     """Cross-key rules the schema cannot express."""
     _check_locking(config)
+    _check_viscoelastic(config)
     g_reg_limit = 3.0 ** (1.0 / 6.0)  # g_max / g_eq: beyond it Tn'(g_reg) > 0 and the law never repels
     g_reg = config["adhesion"]["g_reg_over_g_eq"]
     if g_reg >= g_reg_limit:

@@ -83,7 +83,9 @@ class Material:
     E: float
     nu: float
     lam: float
-    mu: float
+    mu: float  # long-time shear modulus with viscous branches
+    prony_g: tuple[float, ...] = ()  # branch shear moduli / mu (material.model = viscoelastic)
+    prony_tau: tuple[float, ...] = ()  # branch relaxation times (s)
 
 
 @dataclass(frozen=True)
@@ -183,6 +185,8 @@ class Loading:
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
     normal_control: str = "force"  # while sliding: force, height or spring
     spring_stiffness: float | None = None  # E (force per width per length) of normal_control = spring
+    velocity: float | None = None  # L0/s: the stage's speed; None: quasi-static, no time
+    dwell: float = 0.0  # s: hold at the preload before the slide
 
 
 @dataclass(frozen=True)
@@ -246,7 +250,9 @@ class Parameters:
         )
         return cls(
             units=units,
-            material=Material(E=1.0, nu=float(mat["nu"]), lam=lam, mu=mu),
+            material=Material(E=1.0, nu=float(mat["nu"]), lam=lam, mu=mu,
+                              prony_g=tuple(float(b["g"]) for b in mat["prony"]),
+                              prony_tau=tuple(float(b["tau"]) for b in mat["prony"])),
             adhesion=adhesion,
             friction=friction,
             contact=ContactSpec(
@@ -275,6 +281,8 @@ class Parameters:
                 slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
                 normal_control=load["normal_control"],
                 spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
+                velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
+                dwell=float(load["dwell"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),

@@ -33,12 +33,14 @@ class _Flag(IntEnum):
 
 class Phase(_Flag):
     """Load phase of a converged step (DESIGN section 5); spread: the contact spreads with its edge held (stiff,
-    short-range laws, after the approach; the edge-controlled verification sweep)."""
+    short-range laws, after the approach; the edge-controlled verification sweep); dwell: the hold at the preload
+    before the slide (``loading.dwell``)."""
 
     APPROACH = 0
     PRELOAD = 1
     SLIDE = 2
     SPREAD = 3
+    DWELL = 4
 
 
 class SlipState(_Flag):

@@ -163,7 +163,7 @@ def cmd_preload(args) -> int:
     (output,) = check_outputs([args.output], {"npz"})
     cost.check(params, cap_mesh_spec(params))
     start = _retraction_start(params, args.from_state) if args.from_state else None
-    result, writer = _run_checkpointed(params, output, args, start, stop_before="slide")
+    result, writer = _run_checkpointed(params, output, args, start, stop_before="dwell")
     ended = None if result.status == Status.COMPLETED else (result.status, result.reason)
     write_normal_state(output, SavedCase(result.state, result.records, [], result.wall_time, ended), params.config)
     if writer is not None:

@@ -16,8 +16,8 @@ from ..driver.observers import Observer
 __all__ = ["ProgressDisplay", "path_fraction"]
 
 WIDTH = 80
-_SPANS = {"approach": (0.0, 0.10), "spread": (0.10, 0.15), "preload": (0.15, 0.30), "slide": (0.30, 1.0),
-          "done": (1.0, 1.0)}
+_SPANS = {"approach": (0.0, 0.10), "spread": (0.10, 0.15), "preload": (0.15, 0.30), "dwell": (0.30, 0.30),
+          "slide": (0.30, 1.0), "done": (1.0, 1.0)}
 
 
 def path_fraction(step, loading, leg_start: float | None) -> float:
@@ -69,7 +69,7 @@ class ProgressDisplay(Observer):
                               f"t={rec.wall_time:6.2f}s\n")
             self.stream.flush()
             return
-        load = f"ubar {rec.ubar:5.3f}" if rec.phase.label == "slide" else f"Fn {rec.Fn:+.3f}"
+        load = {"slide": f"ubar {rec.ubar:5.3f}", "dwell": f"t {rec.time:.3g} s"}.get(rec.phase.label, f"Fn {rec.Fn:+.3f}")
         self.bar.set_description_str(f"{rec.phase.label:<8} {load:<11} step {self.steps:<4} N{rec.newton_iterations:<2}",
                                      refresh=False)
         if percent is not None:

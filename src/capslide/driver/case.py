@@ -57,7 +57,7 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     ``observers`` see every converged step (progress, for example). With a ``checkpoint`` writer the case is saved
     every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case (a
     checkpoint, or a normal state: a saved path that ended there ends the case the same way). The path stops
-    before the leg ``stop_before`` (``"slide"``: a normal state). A configuration beyond ``limits`` is refused
+    before the leg ``stop_before`` (``"dwell"``: a normal state). A configuration beyond ``limits`` is refused
     before anything is computed (ConfigError, see :mod:`capslide.model.cost`), and a case that takes more than
     ``limits.max_steps`` steps ends diverged.
     """

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from ..fem.viscous import Networks
 from ..loadpath.cap import Mark, PathState
 from ..loadpath.continuation import Loop
 from ..loadpath.measures import RECORD_PROFILES, RECORD_SCALARS, Snapshot, StepRecord
@@ -142,7 +143,7 @@ def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
 def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
     out = []
     for i in range(len(data["phase"])):
-        kw = {name: float(data[name][i]) for name in RECORD_SCALARS}
+        kw = {name: float(data[name][i]) for name in RECORD_SCALARS if name in data}  # older files: no time
         kw["phase"] = Phase(int(kw["phase"]))
         kw["newton_iterations"] = int(kw["newton_iterations"])
         kw["krylov_iterations"] = int(kw["krylov_iterations"])
@@ -152,8 +153,8 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
 
 
 def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
-    """A path state as arrays (current state, loop states, friction and pressure history) and JSON-able header
-    entries."""
+    """A path state as arrays (current state, loop states, friction, pressure and viscous history) and JSON-able
+    header entries."""
     arrays = {"x": s.x}
     if s.loop is not None:
         arrays["loop_x"] = s.loop.x
@@ -165,12 +166,15 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         arrays["accumulated_slip"] = s.history.slip
     if s.history.pressure is not None:
         arrays["pressure_multiplier"] = s.history.pressure
+    if s.history.networks is not None:
+        arrays["viscous_networks"] = s.history.networks.networks
+        arrays["viscous_c_inv"] = s.history.networks.c_inv
     loop = None if s.loop is None else {
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft] for m in s.marks], "cutbacks": s.cutbacks,
-              "smallest": s.smallest, "stage_h": s.stage_h}
+              "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time}
     return arrays, header
 
 
@@ -179,7 +183,9 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     lm = meta["loop"]
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
-    history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"))
+    networks = None if "viscous_networks" not in data else Networks(data["viscous_networks"], data["viscous_c_inv"])
+    history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"), networks,
+                      meta.get("time", 0.0))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
                      meta.get("stage_h"))

@@ -254,6 +254,12 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", u["length"], "L0")),
         "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u["length"], "L0")),
     }
+    if p.loading.velocity is not None:  # time is tracked
+        coords["time"] = ("step", step("time"), quantity("time since the start of the approach", "s"))
+    if p.material.prony_g:
+        data["elastic_energy"][2]["long_name"] = ("stored energy of the cap per unit width: the neo-Hooke part and "
+                                                  "the viscous branches' (energy_residual then holds their "
+                                                  "dissipation)")
     ds = xr.Dataset({name: xr.Variable(*v) for name, v in data.items()},
                     coords={name: xr.Variable(*v) for name, v in coords.items()})
     ds.attrs.update(global_attrs(p.config, "capslide case: soft cap sliding on a rigid substrate", history))

@@ -10,11 +10,16 @@ scalar load parameter:
   until Fn <= 0 (stiff, short-range laws, whose apex gap turns too at the snap-in);
 * ``preload``: the normal force to each target; tensile targets are reached by retracting from
   ``loading.retract_from``, as in the experiment; a retraction that loses the contact ends the path detached;
+* ``dwell`` (with ``loading.dwell`` > 0): time passes at the preload under the slide's normal control, from a
+  stage set at the preloaded state (a viscoelastic bulk relaxes);
 * ``slide``: friction starts (anchors at the preloaded state; from the start of the approach with
   ``friction.active_from = contact``) and ubar goes to ``ubar_max`` under the normal
   control ``loading.normal_control``: at fixed Fn, at the preloaded height, or on a spring from a stage fixed at
   the preloaded state (:func:`slide_constraint`);
 * ``slide back`` (with ``loading.slide_back``): ubar returns to 0.
+
+With ``loading.velocity`` v every leg takes time: the stage moves at v while sliding and approaching (an apex-gap
+or edge step of d L0 takes d L0 / v), and a preload step of dFn* takes as long as the stage needs for dFn* L0.
 
 :class:`PathState` says where the path stands between two steps and holds everything it needs to go on, so
 ``load_path(model, start=state)`` continues a saved path. The driver observes the yielded :class:`PathStep` s;
@@ -40,7 +45,7 @@ __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", 
            "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
            "retraction_from", "slide_constraint", "snap_check"]
 
-LEGS = ("approach", "spread", "preload", "slide", "slide back", "done")
+LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
 
 
 @dataclass(frozen=True)
@@ -108,6 +113,12 @@ def initial_state(model: CapModel) -> PathState:
     if model.params.friction.active_from == "contact":
         return PathState("approach", x, model.start_friction(x, 0.0))
     return PathState("approach", x)
+
+
+def seconds_per_unit(model: CapModel) -> float:
+    """The time (s) a unit change of a leg's load value takes: L0 / v (no time when quasi-static)."""
+    v = model.params.loading.velocity
+    return 0.0 if v is None else 1.0 / v
 
 
 def approach_control(model: CapModel) -> StepControl:
@@ -194,6 +205,12 @@ def _finish_leg(model: CapModel, state: PathState, after: str) -> None:
 
 
 def _after_preload(model: CapModel) -> str:
+    if model.params.loading.dwell > 0.0:
+        return "dwell"
+    return _after_dwell(model)
+
+
+def _after_dwell(model: CapModel) -> str:
     return "slide" if model.params.loading.ubar_max != 0.0 else "done"
 
 
@@ -221,7 +238,8 @@ def retraction_from(loading, preloaded: PathState, Fn_approached: float) -> Path
     whose approach ended at ``Fn_approached``, when the path passes through it (a tensile preload reached by
     retraction); None otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
     targets = preload_targets(loading, Fn_approached)
-    if len(targets) < 2 or preloaded.loop is not None or preloaded.targets or preloaded.leg not in ("slide", "done"):
+    if (len(targets) < 2 or preloaded.loop is not None or preloaded.targets
+            or preloaded.leg not in ("dwell", "slide", "done")):
         return None
     if not preloaded.marks or preloaded.marks[-1].phase != Phase.PRELOAD:
         return None
@@ -236,7 +254,8 @@ def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Pat
         state.loop = Loop.start(state.x, L.approach_start_gap, L.approach_end_gap, control)
     after = "spread" if L.approach_edge_step > 0.0 else "preload"
     steps = continuation(model, state.loop, state.history,
-                         Leg(FixedApexGap, L.approach_end_gap, control, Phase.APPROACH, "approach"))
+                         Leg(FixedApexGap, L.approach_end_gap, control, Phase.APPROACH, "approach",
+                             seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, after))
 
 
@@ -247,7 +266,8 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
         state.loop = Loop.start(state.x, 0.0, X_end, control)
     until = lambda rec: Status.COMPLETED if rec.Fn <= 0.0 else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
-                         Leg(constraint_of, X_end, control, Phase.SPREAD, "approach", ends=until))
+                         Leg(constraint_of, X_end, control, Phase.SPREAD, "approach", ends=until,
+                             seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, "preload"))
 
 
@@ -260,7 +280,8 @@ def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Path
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
-                         Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=detached if retracting else None))
+                         Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=detached if retracting else None,
+                             seconds_per_unit=seconds_per_unit(model)))
     end = yield from _run(model, state, steps, _after_preload(model))
     Fn = _current_Fn(model, state)
     if end.status == Status.DIVERGED and target > Fn and target > 0:  # no equilibrium at the tensile force: pull-off
@@ -304,16 +325,18 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar),
-                             rejects=snap_check(state) if model.params.friction.weakening and name == "slide" else None))
+                             rejects=snap_check(state) if model.params.friction.weakening and name == "slide" else None,
+                             seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, after))
 
 
 def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     L = model.params.loading
-    if state.loop is None:  # the stage is set; friction acts from here on (default): every point anchored where it is
+    if state.loop is None:  # the stage is set (unless a dwell set it); friction acts from here on (default)
         if model.params.friction.active_from == "slide":
             state.history = model.start_friction(state.x, 0.0, state.history)
-        state.stage_h = float(state.x[-1])
+        if state.stage_h is None:
+            state.stage_h = float(state.x[-1])
     after = "slide back" if L.slide_back else "done"
     return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))
 
@@ -323,7 +346,20 @@ def _slide_back(model: CapModel, state: PathState, snapshot_ubar) -> Generator[P
     return (yield from _slide_leg(model, state, L.ubar_max, 0.0, (), "slide back", "done"))
 
 
-_LEG_RUNNERS = {"approach": _approach, "spread": _spread, "preload": _preload, "slide": _slide,
+def _dwell(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
+    """Time from 0 to ``loading.dwell`` at the preload, under the slide's normal control at ubar = 0."""
+    L = model.params.loading
+    control = StepControl(L.dwell / 64.0, L.dwell * 1e-6, L.dwell / 4.0, max_cutbacks=L.max_cutbacks)
+    if state.loop is None:
+        state.stage_h = float(state.x[-1])
+        state.loop = Loop.start(state.x, 0.0, L.dwell, control)
+    at_rest = slide_constraint(L, state.stage_h)
+    steps = continuation(model, state.loop, state.history,
+                         Leg(lambda t: at_rest(0.0), L.dwell, control, Phase.DWELL, "dwell", seconds_per_unit=1.0))
+    return (yield from _run(model, state, steps, _after_dwell(model)))
+
+
+_LEG_RUNNERS = {"approach": _approach, "spread": _spread, "preload": _preload, "dwell": _dwell, "slide": _slide,
                 "slide back": _slide_back}
 
 
@@ -333,7 +369,7 @@ def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
     ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
     how the path ended."""
     state = start if start is not None else initial_state(model)
-    while state.leg not in (stop_before, "done"):
+    while LEGS.index(state.leg) < LEGS.index(stop_before):
         if state.loop is None:  # every leg starts with a fresh factorization: a leg repeats the same arithmetic
             model.solver.invalidate()  # whether the path ran up to it or starts there from a saved state
         end = yield from _LEG_RUNNERS[state.leg](model, state, snapshot_ubar)

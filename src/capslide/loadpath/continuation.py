@@ -54,6 +54,7 @@ class Leg:
     ends: Callable[[StepRecord], Status | None] | None = None
     step_limit: Callable[[float], float] | None = None
     rejects: Callable[[StepRecord], str | None] | None = None
+    seconds_per_unit: float = 0.0  # time (s) a unit change of the load value takes (0: no time passes)
 
 
 @dataclass
@@ -118,12 +119,13 @@ MAX_UZAWA = 30  # Uzawa updates of the pressure multiplier per step (nu = 0.5) b
 
 
 def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndarray,
-                      opts: NewtonOptions) -> tuple[NewtonResult, History]:
-    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1), and the history
-    with the pressure multiplier it converged with: at nu = 0.5 Newton runs again after each of Uzawa's updates
-    of the multiplier until the volume constraint holds (fem.mixed). Iterations are summed over the runs."""
+                      opts: NewtonOptions, dt: float = 0.0) -> tuple[NewtonResult, History]:
+    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1) at the end of a step
+    of dt seconds from ``history``, and the history with the pressure multiplier it converged with: at nu = 0.5
+    Newton runs again after each of Uzawa's updates of the multiplier until the volume constraint holds
+    (fem.mixed). Iterations are summed over the runs."""
     def solve(hist: History, x: np.ndarray) -> NewtonResult:
-        return newton(lambda z: model.residual(z, constraint, hist), lambda z: model.linearize(z, constraint, hist),
+        return newton(lambda z: model.residual(z, constraint, hist, dt), lambda z: model.linearize(z, constraint, hist, dt),
                       x, opts, r_ref=1.0, admissible=model.admissible)
 
     res = solve(history, x0)
@@ -168,12 +170,13 @@ def continuation(model: CapModel, loop: Loop, history: History,
             if not model.admissible(x0):
                 x0 = loop.x
         c = leg.constraint_of(target)
-        res, solved = solve_constrained(model, c, history, x0, opts)
+        dt = leg.seconds_per_unit * abs(target - loop.value)
+        res, solved = solve_constrained(model, c, history, x0, opts, dt)
         reason = res.reason
         rec = None
         if res.converged:
             rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
-                          time.perf_counter() - t0)
+                          time.perf_counter() - t0, dt)
             rejected = leg.rejects(rec) if leg.rejects is not None else None
             if rejected is not None:
                 rec, reason = None, rejected
@@ -191,7 +194,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
         loop.smallest = min(loop.smallest, loop.step)
-        history = model.commit(loop.x, c.ubar, solved)  # friction history only at converged steps
+        history = model.commit(loop.x, c.ubar, solved, dt)  # the history only at converged steps
         landed = None
         if loop.pending and target == loop.pending[0]:
             landed = loop.pending.pop(0)

@@ -50,11 +50,12 @@ class StepRecord:
     adhesion_energy: float = math.nan  # adhesive potential of the interface (E L0^2 per width)
     penalty_energy: float = math.nan  # elastic energy of the tangential penalty (E L0^2 per width)
     slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
+    time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
 
 
 RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
                   "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
-                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy")
+                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "time")
 RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
 
 
@@ -68,9 +69,9 @@ class Snapshot:
 
 
 def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar: float, newton_its: int,
-            krylov_its: int, wall: float) -> StepRecord:
-    """Per-step scalars and surface profiles of the converged state x; ``history`` is the friction history the
-    step started from (its slip is the move of the anchors at the commit)."""
+            krylov_its: int, wall: float, dt: float = 0.0) -> StepRecord:
+    """Per-step scalars and surface profiles of the converged state x; ``history`` is the history the step of dt
+    seconds started from (its slip is the move of the anchors at the commit)."""
     u, h = model.split(x)
     c = model.contact
     g, xs = c.gaps(u, h)
@@ -94,18 +95,21 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     penalty = float(np.sum(Tt.ravel() ** 2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
-                      model.base_reaction(x, history), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
-                      elastic_energy=model.bulk.strain_energy(u, history.pressure),
+                      model.base_reaction(x, history, dt), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
+                      elastic_energy=model.strain_energy(x, history, dt),
                       adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
-                      slip=slip)
+                      slip=slip, time=history.time + dt)
 
 
 def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
-    """Nodal displacements and the cell-averaged I1(sigma) of the state x (``history``: its pressure
-    multiplier)."""
+    """Nodal displacements and the cell-averaged I1(sigma) of the converged state x (``history``: the one after
+    it, with its pressure multiplier and viscous networks)."""
     u = x[:-1]
-    pressure = None if history is None else history.pressure
-    return Snapshot(ubar, u.reshape(-1, 2).copy(), model.bulk.cell_first_invariant(u, pressure))
+    history = history or History()
+    I1 = model.bulk.cell_first_invariant(u, history.pressure)
+    if model.branches is not None:
+        I1 = I1 + model.branches.cell_first_invariant(u, history.networks, 0.0)
+    return Snapshot(ubar, u.reshape(-1, 2).copy(), I1)
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:

@@ -1,8 +1,9 @@
 """The discrete cap-on-substrate system: bulk + contact + clamped base + one scalar load constraint.
 
 Unknowns x = [u (n_dofs), h]. Equations: the cap's residual R(u, h) = f_int - f_contact = 0 and the constraint
-G(x) = 0 of :mod:`capslide.model.constraints`. The friction history (:class:`History`) is an explicit input of
-every evaluation and is renewed only by :meth:`CapModel.commit` at converged states.
+G(x) = 0 of :mod:`capslide.model.constraints`. The history (:class:`History`) is an explicit input of every
+evaluation and is renewed only by :meth:`CapModel.commit` at converged states; so is the step's time increment
+``dt`` (s), which only a viscoelastic bulk uses (0: instantaneous).
 
 Each Newton step solves the bordered system [K c; d^T e]: with a solver that offers ``solve_bordered``
 (``lu_krylov``) in one Krylov run preconditioned by the bordered system of a stored factorization, otherwise with
@@ -19,6 +20,7 @@ from ..fem.assembly import BulkForm, Dirichlet
 from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
 from ..fem.mixed import MixedBulkForm
+from ..fem.viscous import Networks, ViscousBranches
 from ..laws.friction import ReturnMapSettings, friction_law
 from ..params import Parameters
 from .constraints import FixedForce
@@ -30,11 +32,14 @@ __all__ = ["History", "BorderedSolve", "CapModel"]
 class History:
     """State variables that change only at converged steps: the friction anchors (s, g), None before friction;
     with slip weakening each point's accumulated slip (s, g), None without; at nu = 0.5 the augmented Lagrangian's
-    pressure multiplier (n_cells, 3; P1 coefficients, E), None = zero (fem.mixed)."""
+    pressure multiplier (n_cells, 3; P1 coefficients, E), None = zero (fem.mixed); with a viscoelastic bulk the
+    branches' networks (fem.viscous), None = undeformed; the time of the state (s; 0 when quasi-static)."""
 
     anchors: np.ndarray | None = None
     slip: np.ndarray | None = None
     pressure: np.ndarray | None = None
+    networks: Networks | None = None
+    time: float = 0.0
 
 
 class BorderedSolve:
@@ -68,6 +73,7 @@ class CapModel:
         m = params.material
         mixed = params.mesh.formulation == "mixed"
         self.bulk = MixedBulkForm(mesh, m.lam, m.mu) if mixed else BulkForm(mesh, m.lam, m.mu)
+        self.branches = ViscousBranches(self.bulk, m.mu, m.prony_g, m.prony_tau) if m.prony_g else None
         self.contact = SurfaceContact(
             mesh, params.adhesion, params.mesh.surface_gauss_points,
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
@@ -118,16 +124,25 @@ class CapModel:
         return self.bulk.min_jacobian(x[:-1]) > 0.0
 
     # -- Newton callables -------------------------------------------------
-    def residual(self, x: np.ndarray, constraint, history: History) -> np.ndarray:
+    def internal_force(self, u: np.ndarray, history: History, dt: float = 0.0) -> np.ndarray:
+        """The bulk's internal forces (E L0) at the end of a step of dt seconds from ``history``."""
+        f = self.bulk.residual(u, history.pressure)
+        return f if self.branches is None else f + self.branches.residual(u, history.networks, dt)
+
+    def residual(self, x: np.ndarray, constraint, history: History, dt: float = 0.0) -> np.ndarray:
         u, h = self.split(x)
         f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors, history.slip)
-        r = self.bulk.residual(u, history.pressure) - f_c
+        r = self.internal_force(u, history, dt) - f_c
         r[self.bc.dofs] = 0.0
         return np.concatenate([r, [constraint.residual(self, x, Fn)]])
 
-    def linearize(self, x: np.ndarray, constraint, history: History) -> tuple[np.ndarray, BorderedSolve]:
+    def linearize(self, x: np.ndarray, constraint, history: History, dt: float = 0.0
+                  ) -> tuple[np.ndarray, BorderedSolve]:
         u, h = self.split(x)
         f_int, data = self.bulk.residual_and_tangent_data(u, history.pressure)
+        if self.branches is not None:
+            f_v, data_v = self.branches.residual_and_tangent_data(u, history.networks, dt)
+            f_int, data = f_int + f_v, data + data_v
         lin = self.contact.linearize(u, h, constraint.ubar, history.anchors, history.slip)
         np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
         r = f_int - lin.f
@@ -154,13 +169,20 @@ class CapModel:
         slip = None if self.contact.weakening is None else np.zeros_like(anchors)
         return replace(history or History(), anchors=anchors, slip=slip)
 
-    def commit(self, x: np.ndarray, ubar: float, history: History) -> History:
-        """The history after the converged state x (slipping points' anchors follow the return map, and their
-        accumulated slip grows by the anchors' move)."""
+    def commit(self, x: np.ndarray, ubar: float, history: History, dt: float = 0.0) -> History:
+        """The history after the converged state x, a step of dt seconds on (slipping points' anchors follow the
+        return map, and their accumulated slip grows by the anchors' move; the viscous networks relax)."""
         anchors = self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors, history.slip)
+        history = self.committed_bulk(x, history, dt)
         if history.slip is None:
             return replace(history, anchors=anchors)
         return replace(history, anchors=anchors, slip=history.slip + np.abs(anchors - history.anchors))
+
+    def committed_bulk(self, x: np.ndarray, history: History, dt: float) -> History:
+        """``history`` with the bulk's part (the viscous networks and the time) moved to the converged state x."""
+        if self.branches is None:
+            return history if dt == 0.0 else replace(history, time=history.time + dt)
+        return replace(history, networks=self.branches.committed(x[:-1], history.networks, dt), time=history.time + dt)
 
     def updated_pressure(self, x: np.ndarray, history: History) -> History | None:
         """At nu = 0.5, Uzawa's update of the pressure multiplier (lambda <- p) while max |theta - 1| exceeds
@@ -170,7 +192,14 @@ class CapModel:
         return None if multiplier is None else replace(history, pressure=multiplier)
 
     # -- measures of a state ----------------------------------------------
-    def base_reaction(self, x: np.ndarray, history: History | None = None) -> np.ndarray:
-        """Sum of the internal forces at the clamped base nodes (x, y), E L0 (``history``: its pressure multiplier)."""
-        f = self.bulk.residual(x[:-1], None if history is None else history.pressure).reshape(-1, 2)
+    def base_reaction(self, x: np.ndarray, history: History | None = None, dt: float = 0.0) -> np.ndarray:
+        """Sum of the internal forces at the clamped base nodes (x, y), E L0, at the end of a step of dt seconds
+        from ``history`` (its pressure multiplier and viscous networks)."""
+        f = self.internal_force(x[:-1], history or History(), dt).reshape(-1, 2)
         return f[self.mesh.base].sum(axis=0)
+
+    def strain_energy(self, x: np.ndarray, history: History, dt: float = 0.0) -> float:
+        """The bulk's stored energy per unit width (E L0^2) at the end of a step of dt seconds from ``history``:
+        the elastic part and the viscous branches'."""
+        W = self.bulk.strain_energy(x[:-1], history.pressure)
+        return W if self.branches is None else W + self.branches.energy(x[:-1], history.networks, dt)

@@ -1,0 +1,88 @@
+"""The viscous branches of a viscoelastic bulk on a mesh: forces, tangent and committed networks at every
+quadrature point (laws in :mod:`capslide.laws.viscoelastic`).
+
+The branches add to any elastic :class:`capslide.fem.assembly.BulkForm` (displacement or mixed Q2/P1, whose
+volumetric part they leave alone) and share its geometry and sparse pattern. Their state, :class:`Networks`, is
+history: it changes only at converged steps (``committed``), like the friction anchors. Every evaluation takes the
+committed state and the step's time increment ``dt`` (s); ``dt = 0`` is an instantaneous (elastic) response.
+Internal units (E = 1, L0 = 1).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..laws import material
+from ..laws import viscoelastic as ve
+from .assembly import BulkForm
+
+__all__ = ["Networks", "ViscousBranches"]
+
+
+@dataclass(frozen=True)
+class Networks:
+    """The branches' committed state at every quadrature point: the remembered inverse right Cauchy-Green
+    tensors A_i (n_cells, n_points, n_branches, 2, 2) and C^-1 of the committed deformation (n_cells, n_points, 2,
+    2). None of either stands for the undeformed start (identity)."""
+
+    networks: np.ndarray
+    c_inv: np.ndarray
+
+
+class ViscousBranches:
+    """Generalized Maxwell branches with moduli ``g`` (relative to mu) and relaxation times ``tau`` (s) on the
+    geometry of ``bulk``."""
+
+    def __init__(self, bulk: BulkForm, mu: float, g, tau):
+        self.bulk = bulk
+        self.g = np.asarray(g, dtype=float)
+        self.tau = np.asarray(tau, dtype=float)
+        self.moduli = self.g * mu
+
+    def start(self) -> Networks:
+        """The undeformed state: every A_i = I, C^-1 = I."""
+        shape = self.bulk.wdetJ.shape
+        eye = np.broadcast_to(np.eye(2), shape + (2, 2))
+        return Networks(np.ascontiguousarray(np.broadcast_to(eye[..., None, :, :], shape + (len(self.g), 2, 2))),
+                        np.ascontiguousarray(eye))
+
+    def _step(self, state: Networks | None, dt: float):
+        state = self.start() if state is None else state
+        a, b, c = ve.step_weights(dt, self.tau)
+        H = ve.history_stress(state.networks, state.c_inv, self.moduli, a, b)
+        return state, H, float(np.sum(self.moduli * (1.0 - c))), (a, b, c)
+
+    def residual(self, u: np.ndarray, state: Networks | None, dt: float) -> np.ndarray:
+        """The branches' internal forces (E L0) at the end of a step of dt seconds from ``state``."""
+        _, H, kappa, _ = self._step(state, dt)
+        return self.bulk.internal_force(ve.viscous_piola(self.bulk.deformation_gradient(u), H, kappa))
+
+    def residual_and_tangent_data(self, u: np.ndarray, state: Networks | None, dt: float):
+        """(internal forces, CSR data of their exact algorithmic tangent) in the bulk's pattern."""
+        _, H, kappa, _ = self._step(state, dt)
+        P, A = ve.viscous_piola_and_tangent(self.bulk.deformation_gradient(u), H, kappa)
+        return self.bulk.internal_force(P), self.bulk.pattern.values(self.bulk.element_tangents(A))
+
+    def committed(self, u: np.ndarray, state: Networks | None, dt: float) -> Networks:
+        """The state after the converged step that ends at u."""
+        state, _, _, weights = self._step(state, dt)
+        c_inv = ve.inverse_right_cauchy_green(self.bulk.deformation_gradient(u))
+        return Networks(ve.updated_networks(state.networks, state.c_inv, c_inv, *weights), c_inv)
+
+    def energy(self, u: np.ndarray, state: Networks | None, dt: float) -> float:
+        """The branches' stored energy per unit width (E L0^2) at the end of the step."""
+        F = self.bulk.deformation_gradient(u)
+        after = self.committed(u, state, dt)
+        Y = ve.branch_energy(np.swapaxes(F, -1, -2) @ F, after.networks, self.moduli)
+        return float(np.sum(Y * self.bulk.wdetJ))
+
+    def cell_first_invariant(self, u: np.ndarray, state: Networks | None, dt: float) -> np.ndarray:
+        """The branches' part of I1(sigma), cell averages (E): tr(F S F^T) / J; their sigma_zz is zero (A_zz =
+        C^-1_zz = 1)."""
+        _, H, kappa, _ = self._step(state, dt)
+        F = self.bulk.deformation_gradient(u)
+        I1 = np.einsum("...ij,...ij->...", ve.viscous_piola(F, H, kappa), F) / material.det2(F)
+        w = self.bulk.wdetJ
+        return np.sum(I1 * w, axis=1) / np.sum(w, axis=1)
