@@ -25,6 +25,7 @@ include: "workflow/rules/cap_figures.smk"
 include: "workflow/rules/stability.smk"
 include: "workflow/rules/convergence.smk"
 include: "workflow/rules/options.smk"
+include: "workflow/rules/experiment.smk"
 include: "workflow/rules/report_config.smk"
 
 
@@ -44,11 +45,13 @@ localrules:
     stability_table,
     convergence_table,
     options_table,
+    experiment_table,
     effective_config,
     stability,
     verification,
     convergence,
     options,
+    experiment,
 
 
 rule all:

@@ -1,5 +1,5 @@
-"""Commands of the studies: verify (Hertz/JKR), stability, convergence and options tables, the pull-off preload
-overlay."""
+"""Commands of the studies: verify (Hertz/JKR), stability, convergence, options and experiment tables, the pull-off
+preload overlay."""
 
 from __future__ import annotations
 
@@ -13,7 +13,8 @@ from ..config import ConfigError
 from ..states import Status
 from .common import EXIT_STATUS, InputError, check_outputs, csv_text, parameters, write_text_atomic
 
-__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_pull_off", "read_spec"]
+__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_experiment", "cmd_pull_off",
+           "read_spec"]
 
 
 def read_spec(path: str, kind: str) -> tuple[dict, dict]:
@@ -158,4 +159,40 @@ def cmd_options(args) -> int:
     for r in rows:
         print(f"{r['model']:4s} {r['option']:20s} {r['status']:9s} peak Ft {r['peak_Ft']:.5g} "
               f"({r['peak_change_pct']:+.2f} %), onset ubar {r['onset_ubar']:.4g} ({r['onset_change_pct']:+.2f} %)")
+    return 0
+
+
+def cmd_experiment(args) -> int:
+    """Evaluate the experiment study from its case files: table (CSV, Markdown), findings (Markdown), the four
+    panels and the edges per normal control, and the contact interface of the spec's snapshot runs."""
+    from ..studies.convergence import markdown_table
+    from ..studies.experiment import TABLE_COLUMNS, findings, read_cases, table_rows
+
+    spec, _ = read_spec(args.spec, "experiment")
+    outputs = check_outputs(args.output, {"csv", "md"})
+    figure_dir = Path(args.figures) if args.figures else None
+    curves = read_cases(spec, args.cases)
+    rows = table_rows(spec, curves)
+    for out in outputs:
+        write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
+    text = findings(rows)
+    if args.findings:
+        write_text_atomic(Path(args.findings), text)
+    if figure_dir is not None:
+        from .. import figures
+        from ..io.reading import open_result
+
+        figure_dir.mkdir(parents=True, exist_ok=True)
+        controls = sorted({o.split("_")[0] for o in spec["options"]})
+        with figures.journal_style():
+            for control in controls:
+                figures.save(figures.fig_experiment_panels(spec, curves, control),
+                             [figure_dir / f"panels_{control}.{ext}" for ext in ("pdf", "png")])
+                figures.save(figures.fig_experiment_edges(spec, curves, control),
+                             [figure_dir / f"edges_{control}.{ext}" for ext in ("pdf", "png")])
+            for run in spec.get("snapshots", []):
+                case = open_result(Path(args.cases) / f"{run}.nc", "case")
+                figures.save(figures.CASE_FIGURES["cap_Aczoom"](case),
+                             [figure_dir / f"interface_{run}.{ext}" for ext in ("pdf", "png")])
+    sys.stdout.write(text)
     return 0

@@ -12,13 +12,14 @@ from collections.abc import Callable
 
 from .cap import fig_cap_Aczoom, fig_cap_FtOverA, fig_cap_PxAndAc, fig_cap_PxOverAc, fig_cap_setup, fig_cap_xn
 from .experiment import fig_exp_FnJKR
+from .experiment_study import fig_experiment_edges, fig_experiment_panels
 from .laws import fig_modelAM, fig_modelCA, fig_Tn, fig_TnTt
 from .options import fig_option_edges, fig_options
 from .studies import fig_convergence, fig_verification
 from .style import journal_style, save
 
 __all__ = ["MODEL_FIGURES", "MESH_FIGURES", "CASES_FIGURES", "CASE_FIGURES", "TABLE_FIGURES", "journal_style", "save",
-           "fig_convergence", "fig_options", "fig_option_edges"]
+           "fig_convergence", "fig_options", "fig_option_edges", "fig_experiment_panels", "fig_experiment_edges"]
 
 MODEL_FIGURES: dict[str, Callable] = {"Tn": fig_Tn, "modelCA": fig_modelCA, "modelAM": fig_modelAM, "TnTt": fig_TnTt,
                                       "exp_FnJKR": fig_exp_FnJKR}

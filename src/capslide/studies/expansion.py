@@ -1,11 +1,12 @@
 """One study expansion: a study spec -> its runs, each a run id and the config overrides that make it.
 
-Four kinds of spec share it: the workflow's ``study`` section (models x preloads, case files
+Five kinds of spec share it: the workflow's ``study`` section (models x preloads, case files
 ``{model}_Fn{preload:+.3f}``), the stability suite (``config/stability.yaml``), the convergence study
-(``config/convergence.yaml``, run ids ``{case}/{run}``) and the options study (``config/options.yaml``, run ids
-``{model}_{option}``). Every spec is checked against its schema, and every run's
-configuration (the config files plus its overrides) is validated, when the workflow is parsed: a bad key or
-value stops before any job runs, with one line naming the spec, the run and the key.
+(``config/convergence.yaml``, run ids ``{case}/{run}``), the options study (``config/options.yaml``, run ids
+``{model}_{option}``) and the experiment study (``config/experiment.yaml``, the options study's format). Every
+spec is checked against its schema, and every run's configuration (the config files plus its overrides) is
+validated, when the workflow is parsed: a bad key or value stops before any job runs, with one line naming the
+spec, the run and the key.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from . import convergence
 
 __all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
 
-KINDS = ("study", "stability", "convergence", "options")
+KINDS = ("study", "stability", "convergence", "options", "experiment")
 
 
 @functools.cache
@@ -99,7 +100,7 @@ def _options_runs(spec: Mapping) -> dict[str, dict]:
 
 
 _EXPANDERS = {"study": _study_runs, "stability": _stability_runs, "convergence": _convergence_runs,
-              "options": _options_runs}
+              "options": _options_runs, "experiment": _options_runs}
 
 
 def runs(spec: Mapping, kind: str) -> dict[str, dict[str, Any]]:
