@@ -39,7 +39,7 @@ def run_checkpointed(params, path, **kwargs):
 
 def normal_state(params, path, tmp_path, start=None):
     """The normal state of ``params`` written to ``path`` and read back for ``params``."""
-    pre = run_checkpointed(params, tmp_path / f"{path.name}.ckpt", resume=start, stop_before="slide")
+    pre = run_checkpointed(params, tmp_path / f"{path.name}.ckpt", resume=start, stop_before="dwell")
     ended = None if pre.status == Status.COMPLETED else (pre.status, pre.reason)
     write_normal_state(path, SavedCase(pre.state, pre.records, [], pre.wall_time, ended), params.config)
     return pre
@@ -64,6 +64,21 @@ def test_a_slide_from_the_shared_state_is_the_case_alone(base, tmp_path):
     alone = run_checkpointed(ea0, tmp_path / "alone")
     assert alone.status == Status.COMPLETED and any(r.phase == Phase.SLIDE for r in alone.records)
     assert_same_case(alone, shared)
+
+
+def test_a_viscous_dwell_and_slide_from_the_shared_state_is_the_case_alone(base, tmp_path):
+    """With a viscoelastic bulk the state carries the branches' networks and the time; the dwell runs after the
+    state, so a state computed with another dwell (and another friction law) serves, bit for bit."""
+    viscous = {"material__model": "viscoelastic", "material__prony": [{"g": 1.0, "tau": 0.5}],
+               "loading__velocity": 1e-6}
+    pre = normal_state(params_of(base, **viscous, loading__dwell=2.0), tmp_path / "Fn0.npz", tmp_path)
+    assert pre.state.history.networks is not None and pre.state.history.time > 0.0
+    ea0 = params_of(base, **viscous, loading__dwell=0.5, **{k.replace(".", "__"): v for k, v in EA0.items()})
+    shared = run_checkpointed(ea0, tmp_path / "shared", resume=read_normal_state(tmp_path / "Fn0.npz", ea0.config))
+    alone = run_checkpointed(ea0, tmp_path / "alone")
+    assert alone.status == Status.COMPLETED and any(r.phase == Phase.DWELL for r in alone.records)
+    assert_same_case(alone, shared)
+    assert [r.time for r in shared.records] == [r.time for r in alone.records]
 
 
 def test_a_tensile_preload_goes_on_from_the_state_it_is_retracted_from(base, tmp_path):

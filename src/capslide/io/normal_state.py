@@ -1,4 +1,5 @@
-"""Normal states: a cap approached and preloaded, saved once and slid by every friction model (issue 19).
+"""Normal states: a cap approached and preloaded, saved once and slid by every friction model (issue 19); a dwell
+at the preload (``loading.dwell``) runs after the state, under the slide's normal control.
 
 Friction acts from the slide on (DESIGN section 5): the approach and the preload of a case depend on its
 configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that differ only in those keys share
@@ -31,7 +32,7 @@ FORMAT = "capslide normal state 1"
 # dotted keys (or sections, ending in '.') that act from the slide on: they change nothing before it
 SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "loading.min_slide_step",
               "loading.slide_back", "loading.stop_at_onset", "loading.normal_control", "loading.spring_stiffness",
-              "output.snapshot_ubar", "study.")
+              "loading.dwell", "output.snapshot_ubar", "study.")
 
 
 class NormalStateError(ValueError):

@@ -10,7 +10,8 @@ features, from the files:
 * ``drop_time``: the time from the peak to where Ft has made half of that fall (s);
 * ``right_edge_inward``: how far the right contact edge moves left after the peak, its current x at the peak minus
   its smallest later x (L0, in the frame of the cap's base, as the experiment's camera; 0: it never does);
-* ``De``: the Deborah number tau v / L0 of the run's relaxation time (NaN for the elastic bulk).
+* ``De``: the Deborah number tau v / L0 of the run's relaxation time (NaN for the elastic bulk);
+* ``area_start``: the contact area the slide starts from (L0), after the dwell.
 """
 
 from __future__ import annotations
@@ -26,8 +27,9 @@ from ..states import Phase
 
 __all__ = ["TABLE_COLUMNS", "read_cases", "features", "table_rows", "findings"]
 
-TABLE_COLUMNS = ["model", "option", "De", "status", "peak_Ft", "t_peak", "onset_ubar", "final_Ft", "drop_pct", "drop_time",
-                 "right_edge_inward", "area_at_peak", "final_Ft_over_area", "what"]
+ROUNDING = 1e-9  # relative changes below this are the Newton tolerance's, not a drop or a motion
+TABLE_COLUMNS = ["model", "option", "De", "status", "area_start", "peak_Ft", "t_peak", "onset_ubar", "final_Ft", "drop_pct",
+                 "drop_time", "right_edge_inward", "area_at_peak", "final_Ft_over_area", "what"]
 
 
 def _deborah(config: dict) -> float:
@@ -45,8 +47,9 @@ def _curves(path: Path) -> dict:
     if "time" not in ds.coords:
         raise ResultFileError(f"case file '{path}' has no time (run it with loading.velocity)")
     c = {k: ds[k].values[slide] for k in ("ubar", "time", "Ft", "Fn", "area", "x_left", "x_right", "Ft_over_area")}
-    if len(slide):
-        c["time"] = c["time"] - ds["time"].values[slide[0] - 1 if slide[0] > 0 else 0]
+    start = slide[0] - 1 if len(slide) and slide[0] > 0 else 0  # the state the slide starts from
+    c["time"] = c["time"] - ds["time"].values[start]
+    c["area_start"] = float(ds["area"].values[start]) if ds.sizes["step"] else math.nan
     c.update(status=str(ds.attrs["status"]), peak_Ft=float(ds["peak_Ft"]), onset_ubar=float(ds["onset_ubar"]),
              De=_deborah(yaml.safe_load(ds.attrs["config_yaml"])), path=str(path))
     return c
@@ -72,12 +75,13 @@ def features(c: dict) -> dict:
                 "right_edge_inward": math.nan, "area_at_peak": math.nan}
     k = int(np.argmax(np.abs(Ft)))
     peak, final = float(Ft[k]), float(Ft[-1])
-    drop = peak - final
+    drop = peak - final if abs(peak - final) > ROUNDING * abs(peak) else 0.0  # a steady slide: no drop
     half = np.flatnonzero(np.abs(Ft[k:] - peak) >= 0.5 * abs(drop)) if drop != 0.0 else np.array([], dtype=int)
     later = xr[k:][np.isfinite(xr[k:])]
+    inward = float(xr[k] - later.min()) if len(later) else math.nan
     return {"t_peak": float(t[k]), "final_Ft": final, "drop_pct": 100.0 * drop / peak if peak else math.nan,
             "drop_time": float(t[k + half[0]] - t[k]) if len(half) and half[0] > 0 else math.nan,
-            "right_edge_inward": float(xr[k] - later.min()) if len(later) else math.nan,
+            "right_edge_inward": inward if not inward <= ROUNDING * max(abs(xr[k]), 1.0) else 0.0,
             "area_at_peak": float(c["area"][k])}
 
 
@@ -85,7 +89,8 @@ def table_rows(spec: dict, curves: dict[tuple[str, str], dict]) -> list[dict]:
     """The table's rows, in the spec's order of options, models within."""
     rows = []
     for (model, option), c in curves.items():
-        rows.append({"model": model, "option": option, "De": c["De"], "status": c["status"], "peak_Ft": c["peak_Ft"],
+        rows.append({"model": model, "option": option, "De": c["De"], "status": c["status"],
+                     "area_start": c.get("area_start", math.nan), "peak_Ft": c["peak_Ft"],
                      "onset_ubar": c["onset_ubar"], **features(c),
                      "final_Ft_over_area": float(c["Ft_over_area"][-1]) if len(c["Ft"]) else math.nan,
                      "what": spec["options"][option].get("what", "")})
