@@ -64,24 +64,27 @@ def fig_experiment_panels(spec: dict, curves: dict, control: str):
 
 
 def fig_experiment_edges(spec: dict, curves: dict, control: str):
-    """The contact edges x_left, x_right (in the frame of the cap's base, as the experiment's camera) against
-    time, a panel per model, a colour per Deborah number; squares at the peak of Ft."""
+    """The right (top row) and left (bottom row) contact edge, current x in the frame of the cap's base (as the
+    experiment's camera), against time; a column per model, a colour per Deborah number; squares at the peak of
+    Ft. The rows have their own scales, so a late inward motion of the right edge shows."""
     models = list(spec["models"])
-    fig, axes = plt.subplots(1, len(models), figsize=(DOUBLE_COLUMN, 2.4), squeeze=False, sharey=True)
+    fig, axes = plt.subplots(2, len(models), figsize=(DOUBLE_COLUMN, 3.8), squeeze=False, sharex=True)
     for model, _, c, color, label in _runs(spec, curves, control):
-        ax = axes[0, models.index(model)]
+        j = models.index(model)
         t = c["time"]
         if not len(t):
             continue
         k = int(np.argmax(np.abs(c["Ft"])))
-        ax.plot(t, c["x_right"], "-", color=color, lw=1.0, label=label)
-        ax.plot(t, c["x_left"], "--", color=color, lw=1.0)
-        ax.plot([t[k], t[k]], [c["x_left"][k], c["x_right"][k]], "s", color=color, ms=3, mfc="white")
+        for ax, key in zip(axes[:, j], ("x_right", "x_left")):
+            ax.plot(t, c[key], "-", color=color, lw=1.0, label=label)
+            ax.plot(t[k], c[key][k], "s", color=color, ms=3, mfc="white")
     for j, model in enumerate(models):
-        axes[0, j].set(title=f"({'ab'[j] if j < 2 else j}) {model}, {control} control: right (solid) and left (dashed) edge",
-                       xlabel=r"time since the slide started $t$ (s)")
-    axes[0, 0].set_ylabel(r"current $x$ of the contact edge $/\,L_0$")
+        axes[0, j].set_title(f"({'ab'[j] if j < 2 else j}) {model}, {control} control: right (leading) edge")
+        axes[1, j].set_title(f"({'cd'[j] if j < 2 else j}) {model}: left (trailing) edge")
+        axes[1, j].set_xlabel(r"time since the slide started $t$ (s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"current $x$ of the edge $/\,L_0$")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, 0.0))
-    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     return fig
