@@ -24,6 +24,7 @@ import yaml
 
 from ..io.reading import ResultFileError, open_result
 from ..states import Phase
+from . import options
 
 __all__ = ["TABLE_COLUMNS", "read_cases", "features", "table_rows", "findings"]
 
@@ -56,15 +57,8 @@ def _curves(path: Path) -> dict:
 
 
 def read_cases(spec: dict, cases_dir: str | Path) -> dict[tuple[str, str], dict]:
-    """(model, option) -> the slide of its case file; ResultFileError naming a missing file."""
-    out = {}
-    for option, o in spec["options"].items():
-        for model in o.get("models", list(spec["models"])):
-            path = Path(cases_dir) / f"{model}_{option}.nc"
-            if not path.is_file():
-                raise ResultFileError(f"case file '{path}' does not exist (run: snakemake --cores 2 experiment)")
-            out[(model, option)] = _curves(path)
-    return out
+    """(model, option) -> the slide of its case file against time; ResultFileError naming a missing file."""
+    return options.read_cases(spec, cases_dir, _curves, "experiment")
 
 
 def features(c: dict) -> dict:

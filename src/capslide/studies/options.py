@@ -33,15 +33,17 @@ def _curves(path: Path) -> dict:
     return c
 
 
-def read_cases(spec: dict, cases_dir: str | Path) -> dict[tuple[str, str], dict]:
-    """(model, option) -> the slide of its case file; ResultFileError naming a missing file."""
+def read_cases(spec: dict, cases_dir: str | Path, curves=None, target: str = "options") -> dict[tuple[str, str], dict]:
+    """(model, option) -> ``curves(path)`` of its case file (default: the slide against ubar); ResultFileError
+    naming a missing file and the Snakemake ``target`` that makes it."""
+    read = curves or _curves
     out = {}
     for option, o in spec["options"].items():
         for model in o.get("models", list(spec["models"])):
             path = Path(cases_dir) / f"{model}_{option}.nc"
             if not path.is_file():
-                raise ResultFileError(f"case file '{path}' does not exist (run: snakemake --cores 2 options)")
-            out[(model, option)] = _curves(path)
+                raise ResultFileError(f"case file '{path}' does not exist (run: snakemake --cores 2 {target})")
+            out[(model, option)] = read(path)
     return out
 
 
