@@ -15,14 +15,15 @@ import pytest
 
 from capslide.config import ConfigError, apply_overrides, load_config, validate
 from capslide.driver.case import run_case
+from capslide.driver.observers import Observer
 from capslide.fem.assembly import BulkForm
 from capslide.fem.mesh import rectangle_mesh
 from capslide.fem.mixed import MixedBulkForm
 from capslide.fem.viscous import Networks, ViscousBranches
 from capslide.io.checkpoint import path_state, state_arrays
+from capslide.io.results import case_dataset
 from capslide.laws import viscoelastic as ve
-from capslide.loadpath.cap import PathState, load_path
-from capslide.loadpath.continuation import drain
+from capslide.loadpath.cap import PathState
 from capslide.model.build import build_model
 from capslide.model.system import History
 from capslide.params import Parameters, lame_plane_strain
@@ -182,29 +183,59 @@ def test_limits_are_neo_hooke_cases(paper_config, tau, modulus):
     assert visco.records[-1].time > 0.0
 
 
-def test_dissipation_is_nonnegative_at_every_point_and_step(paper_config):
-    """A sliding cap at Deborah number tau v / L0 = 1: at every quadrature point and step the energy the branches
-    dissipate (their stress's work minus their energy's change) is >= 0 and equals the integrated rate; and the
-    bulk is stiffer while sliding than at rest (a drop of Ft after the peak)."""
-    p = Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *viscoelastic(1.0)])))
+class StateKeeper(Observer):
+    """Keeps (record, x, history after the step) of every converged step (the path state is a live object)."""
+
+    def __init__(self):
+        self.steps = []
+
+    def step(self, step):
+        self.steps.append((step.record, step.x, step.state.history))
+
+
+def dissipation_and_balance(paper_config, *sets):
+    """A sliding cap at Deborah number tau v / L0 = 1 (DI, zero load, coarse): per step after the first, the
+    energy the branches dissipate (summed over the cap), what the case file's energy balance leaves over
+    (energy_residual: the loads' work minus the stored energy and the frictional dissipation), and the phase.
+    Asserts at every quadrature point and step that the dissipation, the branch stress's work minus the change of
+    the branch energy, is >= 0 and equals the integrated rate."""
+    p = Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *viscoelastic(1.0), *sets])))
+    keeper = StateKeeper()
+    result = run_case(p, observers=[keeper])
+    assert result.status == Status.COMPLETED
     model = build_model(p)
-    steps = []
-    assert drain(load_path(model), steps.append).status == Status.COMPLETED
     bulk, branches = model.bulk, model.branches
-    before, F0, t0 = History(), bulk.deformation_gradient(np.zeros(model.n_dofs)).copy(), 0.0
-    worst, total = np.inf, 0.0
-    for step in steps:
-        F1 = bulk.deformation_gradient(step.x[:-1]).copy()
-        dt = step.record.time - t0
-        networks = (before.networks or branches.start()).networks
-        by_work, by_rate = ve.step_dissipation(F0, F1, networks, branches.moduli, branches.tau, dt, points=16)
-        assert by_rate.min() >= 0.0
-        energy = ve.branch_energy(np.swapaxes(F1, -1, -2) @ F1, step.state.history.networks.networks, branches.moduli)
-        # the quadrature's error (rtol) and the rounding of work - change of energy (atol, 1e-12 of the energy)
-        np.testing.assert_allclose(by_work, by_rate, rtol=1e-6, atol=1e-12 * energy.max())
-        worst, total = min(worst, by_work.min()), total + float(np.sum(by_work * bulk.wdetJ))
-        before, F0, t0 = step.state.history, F1, step.record.time
-    assert worst >= -1e-12 and total > 0.0
+    before, F0, t0 = branches.start(), bulk.deformation_gradient(np.zeros(model.n_dofs)).copy(), 0.0
+    # the rounding of the energy's O(1) terms tr(C A) - 2 - ln det C - ln det A: 1e-14 of g mu (measured 1e-16
+    # absolute where D ~ 1e-13 in the first steps); the quadrature's error in time: rtol
+    rounding = 1e-14 * branches.moduli.sum()
+    dissipated = []
+    for record, x, history in keeper.steps:
+        F1 = bulk.deformation_gradient(x[:-1]).copy()
+        by_work, by_rate = ve.step_dissipation(F0, F1, before.networks, branches.moduli, branches.tau,
+                                               record.time - t0, points=16)
+        assert by_rate.min() >= 0.0 and by_work.min() >= -rounding
+        np.testing.assert_allclose(by_work, by_rate, rtol=1e-6, atol=rounding)
+        dissipated.append(float(np.sum(by_work * bulk.wdetJ)))
+        before, F0, t0 = history.networks, F1, record.time
+    left_over = np.diff(case_dataset(result).energy_residual.values)
+    return np.array(dissipated)[1:], left_over, np.array([r.phase for r in result.records])[1:]
+
+
+def test_dissipation_is_nonnegative_and_closes_the_energy_balance(paper_config):
+    """The branches' dissipation is what the energy balance leaves over at every preload and slide step, up to
+    the trapezoidal rule of the loads' work: over each leg to 1 % (measured 0.65 % in the preload, 0.08 % in the
+    slide), and with the force steps halved the preload's worst step closes 4x better at least (third order:
+    measured 7.6x). The approach is left out: its jump-in is a snap, a jump of the balance in the elastic case
+    too."""
+    dissipated, left_over, phase = dissipation_and_balance(paper_config)
+    for leg in (Phase.PRELOAD, Phase.SLIDE):
+        mine = phase == leg
+        assert left_over[mine].sum() == pytest.approx(dissipated[mine].sum(), rel=1e-2)
+    assert dissipated[phase == Phase.SLIDE].sum() > 0.1  # E L0^2: the branches do dissipate
+    worst = np.abs(left_over - dissipated)[phase == Phase.PRELOAD].max()
+    dissipated, left_over, phase = dissipation_and_balance(paper_config, "loading.force_step=0.01")
+    assert np.abs(left_over - dissipated)[phase == Phase.PRELOAD].max() < worst / 4
 
 
 def test_dwell_relaxes_at_fixed_force(paper_config):
