@@ -24,22 +24,8 @@ from typing import Any
 import jsonschema
 import yaml
 
-__all__ = [
-    "ConfigError",
-    "schema",
-    "load_yaml",
-    "merge",
-    "apply_overrides",
-    "apply_settings",
-    "override_args",
-    "retyped",
-    "apply_preset",
-    "check_schema",
-    "check_finite",
-    "validate",
-    "load_config",
-    "flatten",
-]
+__all__ = ["ConfigError", "schema", "load_yaml", "merge", "apply_overrides", "apply_settings", "override_args", "retyped",
+           "apply_preset", "check_schema", "check_finite", "validate", "load_config", "flatten"]
 
 
 class ConfigError(ValueError):
@@ -263,15 +249,14 @@ def _check_locking(config: Mapping) -> None:
 
 def _check_viscoelastic(config: Mapping) -> None:
     """The viscous branches need time (a velocity), and branches are given only for the viscoelastic law."""
-    mat, load = config["material"], config["loading"]
-    if mat["model"] == "viscoelastic":
-        if not mat["prony"]:
-            raise ConfigError("material.prony = [] is not allowed with material.model = viscoelastic: give at least "
-                              "one branch {g, tau}")
-        if load["velocity"] is None:
-            raise ConfigError("loading.velocity = None is not allowed with material.model = viscoelastic: the "
-                              "branches relax in time; give the stage's speed (m/s)")
-    elif mat["prony"]:
+    mat, velocity = config["material"], config["loading"]["velocity"]
+    viscous = mat["model"] == "viscoelastic"
+    if viscous and not mat["prony"]:
+        raise ConfigError("material.prony = [] is not allowed with material.model = viscoelastic: give a branch {g, tau}")
+    if viscous and velocity is None:
+        raise ConfigError("loading.velocity = None is not allowed with material.model = viscoelastic: give the stage's "
+                          "speed (m/s)")
+    if not viscous and mat["prony"]:
         raise ConfigError(f"material.prony = {mat['prony']!r} is not allowed with material.model = {mat['model']}: "
                           "the branches need material.model = viscoelastic")
 
