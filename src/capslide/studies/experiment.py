@@ -10,7 +10,7 @@ features, from the files:
 * ``drop_time``: the time from the peak to where Ft has made half of that fall (s);
 * ``right_edge_inward``: how far the right contact edge moves left after the peak, its current x at the peak minus
   its smallest later x (L0, in the frame of the cap's base, as the experiment's camera; 0: it never does);
-* ``De``: the Deborah number tau v / L0 of the run's relaxation time (NaN for the elastic bulk);
+* ``De``: the Deborah number tau v / L0 of the run's longest relaxation time (NaN for the elastic bulk);
 * ``area_start``: the contact area the slide starts from (L0), after the dwell.
 """
 
@@ -49,7 +49,8 @@ def _curves(path: Path) -> dict:
         raise ResultFileError(f"case file '{path}' has no time (run it with loading.velocity)")
     c = {k: ds[k].values[slide] for k in ("ubar", "time", "Ft", "Fn", "area", "x_left", "x_right", "Ft_over_area")}
     start = slide[0] - 1 if len(slide) and slide[0] > 0 else 0  # the state the slide starts from
-    c["time"] = c["time"] - ds["time"].values[start]
+    if ds.sizes["step"]:
+        c["time"] = c["time"] - ds["time"].values[start]
     c["area_start"] = float(ds["area"].values[start]) if ds.sizes["step"] else math.nan
     c.update(status=str(ds.attrs["status"]), peak_Ft=float(ds["peak_Ft"]), onset_ubar=float(ds["onset_ubar"]),
              De=_deborah(yaml.safe_load(ds.attrs["config_yaml"])), path=str(path))
