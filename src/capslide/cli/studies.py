@@ -172,6 +172,9 @@ def cmd_experiment(args) -> int:
     outputs = check_outputs(args.output, {"csv", "md"})
     figure_dir = Path(args.figures) if args.figures else None
     curves = read_cases(spec, args.cases)
+    unknown = [run for run in spec.get("snapshots", []) if run not in {f"{m}_{o}" for m, o in curves}]
+    if unknown:
+        raise InputError(f"{args.spec}: snapshots = {unknown[0]!r} is not a run of the study ({{model}}_{{option}})")
     rows = table_rows(spec, curves)
     for out in outputs:
         write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
