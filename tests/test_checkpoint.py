@@ -81,6 +81,29 @@ def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path
     assert_same_history(uninterrupted, resumed)
 
 
+@pytest.fixture(scope="module")
+def viscous(paper_config, tmp_path_factory):
+    """A viscoelastic case (one branch, a dwell of 4 tau, then a slide to 1.2 L0), run uninterrupted."""
+    sets = ["loading.slide_back=false", "loading.ubar_max=1.2", "loading.velocity=1e-6", "material.model=viscoelastic",
+            "material.prony=[{g: 1.0, tau: 0.5}]", "loading.dwell=2.0"]
+    config = validate(apply_overrides(paper_config, [*COARSE, *sets]))
+    params = Parameters.from_config(config)
+    return params, config_text(config), run_saving(params, tmp_path_factory.mktemp("viscous") / "ckpt", 7)
+
+
+@pytest.mark.parametrize("kill_after, phase", [(40, Phase.DWELL), (60, Phase.SLIDE)], ids=["dwell", "slide"])
+def test_a_viscous_case_resumes_with_its_networks_and_time(viscous, tmp_path, kill_after, phase):
+    """A viscoelastic case killed in its dwell or its slide and resumed from the last checkpoint gives the
+    uninterrupted history, times included: the checkpoint carries the branches' networks and the time."""
+    params, text, full = viscous
+    assert full.records[kill_after - 1].phase == phase
+    with pytest.raises(Killed):
+        run_saving(params, tmp_path / "ckpt", 7, observers=[kill_after_steps(kill_after)])
+    resumed = run_saving(params, tmp_path / "ckpt", 7, resume=load_checkpoint(tmp_path / "ckpt", text))
+    assert_same_history(full, resumed)
+    assert [r.time for r in resumed.records] == [r.time for r in full.records]
+
+
 def test_a_checkpoint_at_the_end_of_the_preload_resumes_into_the_slide(setup, uninterrupted, tmp_path):
     """The slide's first state (its ubar = 0 snapshot, its friction anchors) is set up again after a resume from
     the last preload step."""
