@@ -211,8 +211,11 @@ class BulkForm:
 
     def cell_first_invariant(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
         """I1(sigma) averaged over each cell's quadrature points (E), (n_cells,)."""
-        I1 = material.first_invariant(self.deformation_gradient(u), self.lam, self.mu)
-        return np.sum(I1 * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)
+        return self.cell_average(material.first_invariant(self.deformation_gradient(u), self.lam, self.mu))
+
+    def cell_average(self, values: np.ndarray) -> np.ndarray:
+        """The area-weighted average over each cell of values at the quadrature points (e, q) -> (n_cells,)."""
+        return np.sum(values * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)
 
 
 def rigid_body_modes(nodes: np.ndarray) -> np.ndarray:

@@ -148,4 +148,4 @@ class MixedBulkForm(BulkForm):
     def cell_first_invariant(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
         """I1(sigma) averaged over each cell (E): the deviatoric part's (Lambda = 0) plus 3 p (sigma_zz = p)."""
         I1 = material.first_invariant(self.deformation_gradient(u), 0.0, self.mu) + 3.0 * self.pressure(u, multiplier)
-        return np.sum(I1 * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)
+        return self.cell_average(I1)

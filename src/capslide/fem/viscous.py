@@ -48,41 +48,36 @@ class ViscousBranches:
         return Networks(np.ascontiguousarray(np.broadcast_to(eye[..., None, :, :], shape + (len(self.g), 2, 2))),
                         np.ascontiguousarray(eye))
 
-    def _step(self, state: Networks | None, dt: float):
+    def _history(self, state: Networks | None, dt: float) -> tuple[np.ndarray, float]:
+        """(H, kappa) of a step of dt seconds from ``state``: S = H - kappa C^-1 at its end."""
         state = self.start() if state is None else state
         a, b, c = ve.step_weights(dt, self.tau)
-        H = ve.history_stress(state.networks, state.c_inv, self.moduli, a, b)
-        return state, H, float(np.sum(self.moduli * (1.0 - c))), (a, b, c)
+        return ve.history_stress(state.networks, state.c_inv, self.moduli, a, b), float(np.sum(self.moduli * (1.0 - c)))
 
     def residual(self, u: np.ndarray, state: Networks | None, dt: float) -> np.ndarray:
         """The branches' internal forces (E L0) at the end of a step of dt seconds from ``state``."""
-        _, H, kappa, _ = self._step(state, dt)
-        return self.bulk.internal_force(ve.viscous_piola(self.bulk.deformation_gradient(u), H, kappa))
+        return self.bulk.internal_force(ve.viscous_piola(self.bulk.deformation_gradient(u), *self._history(state, dt)))
 
     def residual_and_tangent_data(self, u: np.ndarray, state: Networks | None, dt: float):
         """(internal forces, CSR data of their exact algorithmic tangent) in the bulk's pattern."""
-        _, H, kappa, _ = self._step(state, dt)
-        P, A = ve.viscous_piola_and_tangent(self.bulk.deformation_gradient(u), H, kappa)
+        P, A = ve.viscous_piola_and_tangent(self.bulk.deformation_gradient(u), *self._history(state, dt))
         return self.bulk.internal_force(P), self.bulk.pattern.values(self.bulk.element_tangents(A))
 
     def committed(self, u: np.ndarray, state: Networks | None, dt: float) -> Networks:
         """The state after the converged step that ends at u."""
-        state, _, _, weights = self._step(state, dt)
+        state = self.start() if state is None else state
         c_inv = ve.inverse_right_cauchy_green(self.bulk.deformation_gradient(u))
-        return Networks(ve.updated_networks(state.networks, state.c_inv, c_inv, *weights), c_inv)
+        return Networks(ve.updated_networks(state.networks, state.c_inv, c_inv, *ve.step_weights(dt, self.tau)), c_inv)
 
     def energy(self, u: np.ndarray, state: Networks | None, dt: float) -> float:
         """The branches' stored energy per unit width (E L0^2) at the end of the step."""
         F = self.bulk.deformation_gradient(u)
-        after = self.committed(u, state, dt)
-        Y = ve.branch_energy(np.swapaxes(F, -1, -2) @ F, after.networks, self.moduli)
+        Y = ve.branch_energy(np.swapaxes(F, -1, -2) @ F, self.committed(u, state, dt).networks, self.moduli)
         return float(np.sum(Y * self.bulk.wdetJ))
 
     def cell_first_invariant(self, u: np.ndarray, state: Networks | None, dt: float) -> np.ndarray:
         """The branches' part of I1(sigma), cell averages (E): tr(F S F^T) / J; their sigma_zz is zero (A_zz =
         C^-1_zz = 1)."""
-        _, H, kappa, _ = self._step(state, dt)
         F = self.bulk.deformation_gradient(u)
-        I1 = np.einsum("...ij,...ij->...", ve.viscous_piola(F, H, kappa), F) / material.det2(F)
-        w = self.bulk.wdetJ
-        return np.sum(I1 * w, axis=1) / np.sum(w, axis=1)
+        P = ve.viscous_piola(F, *self._history(state, dt))
+        return self.bulk.cell_average(np.einsum("...ij,...ij->...", P, F) / material.det2(F))

@@ -104,12 +104,7 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
 def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
     """Nodal displacements and the cell-averaged I1(sigma) of the converged state x (``history``: the one after
     it, with its pressure multiplier and viscous networks)."""
-    u = x[:-1]
-    history = history or History()
-    I1 = model.bulk.cell_first_invariant(u, history.pressure)
-    if model.branches is not None:
-        I1 = I1 + model.branches.cell_first_invariant(u, history.networks, 0.0)
-    return Snapshot(ubar, u.reshape(-1, 2).copy(), I1)
+    return Snapshot(ubar, x[:-1].reshape(-1, 2).copy(), model.cell_first_invariant(x, history or History()))
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:

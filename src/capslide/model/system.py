@@ -198,6 +198,11 @@ class CapModel:
         f = self.internal_force(x[:-1], history or History(), dt).reshape(-1, 2)
         return f[self.mesh.base].sum(axis=0)
 
+    def cell_first_invariant(self, x: np.ndarray, history: History) -> np.ndarray:
+        """I1(sigma) averaged over each cell (E) of the converged state x, ``history`` the one after it."""
+        I1 = self.bulk.cell_first_invariant(x[:-1], history.pressure)
+        return I1 if self.branches is None else I1 + self.branches.cell_first_invariant(x[:-1], history.networks, 0.0)
+
     def strain_energy(self, x: np.ndarray, history: History, dt: float = 0.0) -> float:
         """The bulk's stored energy per unit width (E L0^2) at the end of a step of dt seconds from ``history``:
         the elastic part and the viscous branches'."""
