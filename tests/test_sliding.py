@@ -132,6 +132,28 @@ def test_force_balance_at_every_step(di_case):
         assert rec.Ft + rec.reaction[0] == pytest.approx(0.0, abs=1e-8), rec.phase
 
 
+def test_onset_is_located_to_its_bracket(di_case):
+    """The first fully sliding step lies within 1e-3 ubar (or two smallest steps) of the last step with a stick
+    zone: a step that closes the stick zone from farther away is cut back (loadpath.cap.onset_check)."""
+    p, res = di_case
+    slide = [r for r in res.records if r.phase == Phase.SLIDE]
+    first = next(i for i, r in enumerate(slide) if r.ubar == res.scalars["onset_ubar"])
+    assert slide[first - 1].area_stick > 0.0
+    bracket = slide[first].ubar - slide[first - 1].ubar
+    assert 0.0 < bracket <= max(1e-3 * slide[first].ubar, 2.0 * p.loading.min_slide_step)
+
+
+def test_snapshot_landings_do_not_shorten_the_steps_after_them(paper_config, di_case):
+    """Landing on a snapshot shortens that one step, not the ones after it: four snapshots before the onset add
+    about four slide steps (the code before issue 19's step rule added 20 here) and leave the onset in place."""
+    _, plain = di_case
+    snaps = run_case(params_with(paper_config, "friction.model=DI", "output.snapshot_ubar=[0.5, 1.0, 1.5, 2.0]"))
+    count = lambda res: sum(r.phase == Phase.SLIDE for r in res.records)  # noqa: E731
+    assert count(snaps) <= count(plain) + 4 + 2
+    assert snaps.scalars["onset_ubar"] == pytest.approx(plain.scalars["onset_ubar"], rel=2e-3)
+    assert snaps.scalars["peak_Ft"] == pytest.approx(plain.scalars["peak_Ft"], rel=1e-4)
+
+
 def test_pull_off_ends_detached_with_a_file(tmp_path):
     """A tensile preload beyond pull-off: status detached, the file is written, the exit code is non-zero."""
     import subprocess

@@ -315,6 +315,30 @@ def snap_check(state: PathState, drop: float = SNAP_DROP):
     return rejects
 
 
+ONSET_BRACKET = 1e-3  # the onset of full sliding is located to this fraction of ubar (onset_check)
+
+
+def onset_check(state: PathState, smallest: float, tolerance: float = ONSET_BRACKET):
+    """A slide step that ends the stick zone (its record fully sliding, the last step's stick area > 0) is cut back
+    while it is longer than ``tolerance`` |ubar| (and than 2 ``smallest``, so that the cut-back stays above the
+    smallest step): the onset of full sliding, the first fully sliding step, is then located to that bracket."""
+    def rejects(rec) -> str | None:
+        last = state.marks[-1] if state.marks else None
+        if last is None or last.phase != rec.phase or not last.area_stick > 0.0 or not fully_sliding(rec):
+            return None
+        length = abs(rec.ubar - last.ubar)
+        if length <= max(tolerance * abs(rec.ubar), 2.0 * smallest):
+            return None
+        return f"the stick zone closed within a step of {length:.3g}"
+    return rejects
+
+
+def _either(*checks):
+    """The first reason any of ``checks`` (each None or rejects(record) -> reason or None) gives."""
+    active = [c for c in checks if c is not None]
+    return lambda rec: next((r for r in (c(rec) for c in active) if r is not None), None)
+
+
 def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
                after: str) -> Generator[PathStep, None, LegEnd]:
     control = _slide_control(model)
@@ -322,11 +346,13 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
+    forward = name == "slide"
+    rejects = _either(onset_check(state, control.minimum) if forward else None,
+                      snap_check(state) if model.params.friction.weakening and forward else None)
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar),
-                             rejects=snap_check(state) if model.params.friction.weakening and name == "slide" else None,
-                             seconds_per_unit=seconds_per_unit(model)))
+                             rejects=rejects, seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, after))
 
 

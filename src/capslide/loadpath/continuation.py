@@ -155,12 +155,13 @@ def continuation(model: CapModel, loop: Loop, history: History,
     tol = _tolerance(end)
     opts = newton_options(model)
     while direction * (end - loop.value) > tol:
-        loop.step = min(loop.step, abs(end - loop.value))
+        step = min(loop.step, abs(end - loop.value))
         if step_limit is not None:
-            loop.step = max(min(loop.step, step_limit(loop.value)), control.minimum)
+            step = max(min(step, step_limit(loop.value)), control.minimum)
         if loop.pending:
-            loop.step = min(loop.step, abs(loop.pending[0] - loop.value))
-        target = loop.value + direction * loop.step
+            step = min(step, abs(loop.pending[0] - loop.value))
+        shortened = step < loop.step  # to land on the end, a breakpoint or the step limit: loop.step is kept
+        target = loop.value + direction * step
         if loop.pending and abs(target - loop.pending[0]) <= tol:
             target = loop.pending[0]
         t0 = time.perf_counter()
@@ -182,7 +183,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
                 rec, reason = None, rejected
         if rec is None:
             loop.cutbacks += 1
-            loop.step *= 0.5
+            loop.step = 0.5 * step
             if loop.cutbacks > control.max_cutbacks:
                 return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
                               f"{loop.value:.6g} ({reason})")
@@ -193,7 +194,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
             continue
         loop.x_prev, loop.value_prev = loop.x, loop.value
         loop.x, loop.value = res.x, target
-        loop.smallest = min(loop.smallest, loop.step)
+        loop.smallest = min(loop.smallest, step)
         history = model.commit(loop.x, c.ubar, solved, dt)  # the history only at converged steps
         landed = None
         if loop.pending and target == loop.pending[0]:
@@ -201,7 +202,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         status = ends(rec) if ends is not None else None
         leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
         if leg_end is None:
-            if res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's re-solves)
+            if not shortened and res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's)
                 loop.step = min(loop.step * control.growth, control.maximum)
             if not direction * (end - loop.value) > tol:
                 leg_end = LegEnd(Status.COMPLETED)
