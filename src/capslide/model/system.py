@@ -49,6 +49,14 @@ class BorderedSolve:
         self.solver, self.K, self.c, self.d, self.e = solver, K, c, d, e
         self.iterations = 0
 
+    def next_increment(self, r: np.ndarray) -> float | None:
+        """||J0^{-1} r||_inf with the solver's stored factors J0 (an earlier Jacobian, or this one with the direct
+        solver): the size of the increment a Newton iteration would take from the residual r, estimated without a
+        new tangent or Krylov run; None when the solver keeps no factors."""
+        approximate = getattr(self.solver, "approximate_bordered", None)
+        dx = None if approximate is None else approximate(self.c, self.d, self.e, r)
+        return None if dx is None else float(np.max(np.abs(dx)))
+
     def __call__(self, r: np.ndarray) -> np.ndarray:
         if hasattr(self.solver, "solve_bordered"):  # one Krylov run on the whole bordered system
             x, info = self.solver.solve_bordered(self.K, self.c, self.d, self.e, r)

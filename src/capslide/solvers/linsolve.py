@@ -151,21 +151,42 @@ def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
     return spla.splu(A.tocsc(), permc_spec=permc_spec)
 
 
+def _bordered_inverse(lu, c: np.ndarray, d: np.ndarray, e: float):
+    """The exact inverse of [A0 c; d^T e] as a callable (n + 1 vectors), A0 the matrix of the SuperLU factors
+    ``lu``: one LU solve for A0^{-1} c here, then one per application."""
+    n = len(c)
+    w = lu.solve(c)
+    schur = e - d @ w
+    if schur == 0.0 or not np.isfinite(schur):
+        raise np.linalg.LinAlgError("singular bordered preconditioner (Schur complement zero)")
+
+    def apply(r: np.ndarray) -> np.ndarray:
+        z = lu.solve(r[:n])
+        dh = (r[n] - d @ z) / schur
+        return np.concatenate([z - w * dh, [dh]])
+    return apply
+
+
 @dataclass
 class DirectSolver:
     """SciPy SuperLU (MMD on A^T + A ordering); a new factorization per matrix."""
 
     permc_spec: str = "MMD_AT_PLUS_A"
     diagonal_pivoting: bool = False
+    _lu: object = field(default=None, init=False, repr=False)
     stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
 
     def invalidate(self) -> None:
-        pass
+        self._lu = None
+
+    def approximate_bordered(self, c: np.ndarray, d: np.ndarray, e: float, b: np.ndarray) -> np.ndarray | None:
+        """[A c; d^T e]^{-1} b with the factors of the last matrix A solved with (None before any)."""
+        return None if self._lu is None else _bordered_inverse(self._lu, c, d, e)(b)
 
     def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = True) -> tuple[np.ndarray, SolveInfo]:
         info = SolveInfo(rebuilt=True)
         t = time.perf_counter()
-        lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
+        lu = self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
         info.setup_time = time.perf_counter() - t
         t = time.perf_counter()
         X = lu.solve(B)
@@ -200,14 +221,21 @@ class LUKrylovSolver:
     _lu: object = field(default=None, init=False, repr=False)
     _base_iterations: int | None = field(default=None, init=False, repr=False)
     _excess_iterations: int = field(default=0, init=False, repr=False)
+    _stale: bool = field(default=False, init=False, repr=False)  # factors kept, but renewed at the next solve
     stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
 
     def invalidate(self) -> None:
         self._lu = None
 
+    def approximate_bordered(self, c: np.ndarray, d: np.ndarray, e: float, b: np.ndarray) -> np.ndarray | None:
+        """[A0 c; d^T e]^{-1} b with the stored factors A0 (the preconditioner of :meth:`solve_bordered`); None
+        without factors."""
+        return None if self._lu is None else _bordered_inverse(self._lu, c, d, e)(b)
+
     def factor(self, A) -> float:
         t = time.perf_counter()
         self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
+        self._stale = False
         self.stats["setups"] += 1
         self._base_iterations, self._excess_iterations = None, 0
         return time.perf_counter() - t
@@ -215,7 +243,7 @@ class LUKrylovSolver:
     def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = False) -> tuple[np.ndarray, SolveInfo]:
         B2 = B.reshape(len(B), -1)
         info = SolveInfo()
-        if rebuild or self._lu is None:
+        if rebuild or self._lu is None or self._stale:
             info.setup_time, info.rebuilt = self.factor(A), True
         for _attempt in range(2):
             lu = self._lu
@@ -239,7 +267,7 @@ class LUKrylovSolver:
             info.setup_time += self.factor(A)
             info.rebuilt = True
         if info.iterations > self.max_iterations_before_refactor * B2.shape[1]:
-            self._lu = None  # refactor at the next solve
+            self._stale = True  # refactor at the next solve
         self.stats["solves"] += 1
         self.stats["iterations"] += info.iterations
         return X.reshape(B.shape), info
@@ -254,24 +282,13 @@ class LUKrylovSolver:
         """
         n = A.shape[0]
         info = SolveInfo()
-        if self._lu is None:
+        if self._lu is None or self._stale:
             info.setup_time, info.rebuilt = self.factor(A), True
         matvec = lambda x: np.concatenate([A @ x[:n] + c * x[n], [d @ x[:n] + e * x[n]]])  # noqa: E731
         op = spla.LinearOperator((n + 1, n + 1), matvec=matvec, dtype=float)
         nb = float(np.linalg.norm(b))
         for _attempt in range(2):
-            lu = self._lu
-            w = lu.solve(c)
-            schur = e - d @ w
-            if schur == 0.0 or not np.isfinite(schur):
-                raise np.linalg.LinAlgError("singular bordered preconditioner (Schur complement zero)")
-
-            def precondition(r, lu=lu, w=w, schur=schur):
-                z = lu.solve(r[:n])
-                dh = (r[n] - d @ z) / schur
-                return np.concatenate([z - w * dh, [dh]])
-
-            M = spla.LinearOperator((n + 1, n + 1), matvec=precondition, dtype=float)
+            M = spla.LinearOperator((n + 1, n + 1), matvec=_bordered_inverse(self._lu, c, d, e), dtype=float)
             count = [0]
             t = time.perf_counter()
             x, code = spla.gmres(op, b, rtol=self.rtol, restart=40, maxiter=3, M=M,
@@ -293,7 +310,7 @@ class LUKrylovSolver:
         else:  # iterations that a fresh factorization would have saved
             self._excess_iterations += max(its - self._base_iterations, 0)
         if self._excess_iterations > self.refactor_excess_iterations or its > self.hard_iteration_limit:
-            self._lu = None  # refactor at the next solve
+            self._stale = True  # refactor at the next solve (the factors still serve approximate_bordered)
         self.stats["solves"] += 1
         self.stats["iterations"] += its
         return x, info

@@ -5,7 +5,10 @@ The problem is given as two callables: ``residual(x) -> r`` and
 increment dx of the linearization at x (so bordered systems and Dirichlet
 conditions stay with the caller). Convergence needs BOTH the residual
 (``||r|| <= atol`` or ``||r|| <= rtol * r_ref``, in force units) AND the
-increment (``||dx||_inf <= dx_tol``, in length units) to be small.
+increment (``||dx||_inf <= dx_tol``, in length units) to be small: the increment
+just taken, or the next one as ``solve.next_increment(r)`` estimates it, when
+the linearization offers that (then the iteration that would only confirm a
+small increment is saved).
 """
 
 from __future__ import annotations
@@ -28,6 +31,8 @@ class NewtonOptions:
     line_search_steps: int = 8  # halvings before the full step is taken anyway
     sufficient_decrease: float = 1e-4
     divergence_factor: float = 1e6  # ||r|| above this times the initial one: diverged
+    estimate_fraction: float = 0.1  # a residual below tolerance also converges when the estimated next increment
+    # (solve.next_increment) is below this fraction of dx_tol (0: never estimate)
 
 
 @dataclass
@@ -43,6 +48,18 @@ class NewtonResult:
 
 def _norm(r: np.ndarray) -> float:
     return float(np.linalg.norm(r))
+
+
+def _next_increment_small(solve, r: np.ndarray, options: NewtonOptions) -> bool:
+    """Whether the increment from the residual r, estimated by ``solve.next_increment(r)`` with the factors at hand
+    (like Deuflhard's simplified Newton correction, Newton Methods for Nonlinear Problems, Springer 2004, with an
+    earlier Jacobian's factors), is below
+    ``estimate_fraction`` dx_tol: then one more iteration, which would only confirm the increment, is saved."""
+    estimate = getattr(solve, "next_increment", None)
+    if estimate is None or options.estimate_fraction <= 0.0:
+        return False
+    size = estimate(r)
+    return size is not None and size <= options.estimate_fraction * options.dx_tol
 
 
 def newton(
@@ -89,7 +106,7 @@ def newton(
             r_try = residual(x_try)
             n_try = _norm(r_try)
             if x_ok is None:
-                x_ok, n_ok, alpha_ok = x_try, n_try, alpha  # longest admissible step
+                x_ok, r_ok, n_ok, alpha_ok = x_try, r_try, n_try, alpha  # longest admissible step
             if math.isfinite(n_try) and n_try <= (1.0 - options.sufficient_decrease * alpha) * r_norm:
                 accepted = True
                 break
@@ -97,13 +114,13 @@ def newton(
         if not accepted:  # no decrease found: take the longest admissible step (Newton may still converge)
             if x_ok is None:
                 return NewtonResult(x, False, it - 1, "no admissible step (inverted elements)", norms, lin_its)
-            x_try, n_try, alpha = x_ok, n_ok, alpha_ok
+            x_try, r_try, n_try, alpha = x_ok, r_ok, n_ok, alpha_ok
         x = x_try
         r_norm = n_try
         norms.append(r_norm)
         step = alpha * float(np.max(np.abs(dx))) if dx.size else 0.0
-        if r_norm <= tol and step <= options.dx_tol:  # converged: no tangent needed at x
-            return NewtonResult(x, True, it, "converged", norms, lin_its)
+        if r_norm <= tol and (step <= options.dx_tol or _next_increment_small(solve, r_try, options)):
+            return NewtonResult(x, True, it, "converged", norms, lin_its)  # converged: no tangent needed at x
         if not math.isfinite(r_norm) or r_norm > options.divergence_factor * r0:
             return NewtonResult(x, False, it, f"diverged: residual {r_norm:.3e}", norms, lin_its)
         r, solve = linearize(x)
