@@ -16,6 +16,7 @@ directories, with the largest relative difference. Nothing is asserted: the numb
 from __future__ import annotations
 
 import argparse
+import math
 import shutil
 import statistics
 import subprocess
@@ -88,6 +89,63 @@ def cmd_qoi(args) -> None:
     print(f"\n{len(names)} cases; largest relative difference of a QoI: {worst_all:.2g}")
 
 
+def onset_bracket(path: Path) -> tuple[float, float]:
+    """The slide step before the first fully sliding one and that one (ubar, L0): where the onset lies."""
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        ubar = ds["ubar"].values[ds["phase"].values == 2]
+        onset = float(ds["onset_ubar"])
+    if not np.isfinite(onset):
+        return math.nan, math.nan
+    i = int(np.flatnonzero(ubar == onset)[0])
+    return float(ubar[i - 1]), onset
+
+
+def cmd_onset(args) -> None:
+    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    print("| case | before: bracket (L0) | width (%) | after: bracket (L0) | width (%) | after's onset in before's bracket |")
+    print("|---|---|---|---|---|---|")
+    for name in names:
+        (a0, a1), (b0, b1) = onset_bracket(args.before / name), onset_bracket(args.after / name)
+        if not np.isfinite(a1):
+            print(f"| {name[:-3]} | - | - | - | - | - |")
+            continue
+        inside = a0 - 1e-12 <= b1 <= a1 + 1e-12 or b0 - 1e-12 <= a1 <= b1 + 1e-12
+        print(f"| {name[:-3]} | [{a0:.5f}, {a1:.5f}] | {100 * (a1 - a0) / a1:.2f} | [{b0:.5f}, {b1:.5f}] | "
+              f"{100 * (b1 - b0) / b1:.3f} | {'yes' if inside else 'NO'} |")
+
+
+def iteration_counts(path: Path) -> dict[str, float]:
+    """Steps, Newton iterations and their ratio per phase, and the case's cut-backs (failed attempts)."""
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        phase, its = ds["phase"].values, ds["newton_iterations"].values
+        out = {"cutbacks": int(ds.attrs["cutbacks"])}
+    for code, leg in ((1, "normal"), (2, "slide")):
+        mask = phase == code if code == 2 else phase != 2
+        out[f"{leg}_steps"], out[f"{leg}_newton"] = int(mask.sum()), int(its[mask].sum())
+    return out
+
+
+def cmd_iterations(args) -> None:
+    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    print("| case | approach + preload: steps, Newton (before -> after) | slide: steps, Newton, per step | cut-backs |")
+    print("|---|---|---|---|")
+    total = {"before": 0, "after": 0}
+    for name in names:
+        a, b = iteration_counts(args.before / name), iteration_counts(args.after / name)
+        total["before"] += a["normal_newton"] + a["slide_newton"]
+        total["after"] += b["normal_newton"] + b["slide_newton"]
+        print(f"| {name[:-3]} | {a['normal_steps']}, {a['normal_newton']} -> {b['normal_steps']}, {b['normal_newton']} | "
+              f"{a['slide_steps']}, {a['slide_newton']}, {a['slide_newton'] / max(a['slide_steps'], 1):.1f} -> "
+              f"{b['slide_steps']}, {b['slide_newton']}, {b['slide_newton'] / max(b['slide_steps'], 1):.1f} | "
+              f"{a['cutbacks']} -> {b['cutbacks']} |")
+    print(f"\n{len(names)} cases; Newton iterations {total['before']} -> {total['after']} "
+          f"({total['after'] / max(total['before'], 1):.2f}x)")
+
+
 def cmd_reproduce(args) -> None:
     times: dict[Path, list[float]] = {repo: [] for repo in args.repo}
     for i in range(args.repeats):
@@ -116,6 +174,14 @@ def main() -> None:
     p.add_argument("before", type=Path)
     p.add_argument("after", type=Path)
     p.set_defaults(func=cmd_qoi)
+    p = sub.add_parser("onset", help="where the onset of full sliding lies, in the case files of two directories")
+    p.add_argument("before", type=Path)
+    p.add_argument("after", type=Path)
+    p.set_defaults(func=cmd_onset)
+    p = sub.add_parser("iterations", help="steps, Newton iterations and cut-backs of the case files in two directories")
+    p.add_argument("before", type=Path)
+    p.add_argument("after", type=Path)
+    p.set_defaults(func=cmd_iterations)
     p = sub.add_parser("reproduce", help="snakemake --cores 2 in clones, alternating")
     p.add_argument("--repo", type=Path, action="append", required=True)
     p.add_argument("--repeats", type=int, default=3)
