@@ -49,6 +49,13 @@ def qoi(slide):
     return np.array([Ft[np.argmax(np.abs(Ft))], Ft[-1]])
 
 
+def newton_tolerance(p) -> float:
+    """The residual norm (E L0 W, r_ref = 1) a converged step satisfies; the normal control's equation is one
+    component of that residual, so it holds to this. (Before issue 19's convergence estimate, every solve took one
+    more iteration than needed and left about 1e-13.)"""
+    return max(p.solver.newton_atol, p.solver.newton_rtol)
+
+
 @pytest.mark.parametrize("k_star", [1e-2, 1.0, 1e3])
 def test_spring_equilibrium_at_every_step(paper_config, k_star):
     p, _, slide, h_stage = run(paper_config, "spring", k_star)
@@ -56,13 +63,13 @@ def test_spring_equilibrium_at_every_step(paper_config, k_star):
     assert k == pytest.approx(k_star)
     Fn, h = np.array([r.Fn for r in slide]), np.array([r.h for r in slide])
     spring = p.loading.preload - k * (h - h_stage)
-    assert np.abs(Fn - spring).max() <= 1e-10
-    assert np.ptp(Fn) > 1e3 * 1e-10  # the spring force does change: the check is not Fn = F* again
+    assert np.abs(Fn - spring).max() <= newton_tolerance(p)
+    assert np.ptp(Fn) > 1e3 * newton_tolerance(p)  # the spring force does change: the check is not Fn = F* again
 
 
 def test_force_and_height_control_hold_their_variable(paper_config):
     p, _, force, _ = run(paper_config, "force")
-    assert np.abs([r.Fn - p.loading.preload for r in force]).max() <= 1e-10
+    assert np.abs([r.Fn - p.loading.preload for r in force]).max() <= newton_tolerance(p)
     assert np.ptp([r.h for r in force]) > 0.01  # the substrate rises while the cap is sheared
     _, _, height, h_stage = run(paper_config, "height")
     assert np.abs([r.h - h_stage for r in height]).max() == 0.0
