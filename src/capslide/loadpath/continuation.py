@@ -1,7 +1,8 @@
 """Adaptive continuation in one scalar load parameter, as a generator of converged states.
 
 ``continuation`` steps the parameter from the loop's value to ``end`` under :class:`StepControl`: the step grows
-by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; below
+by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; a step
+shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below
 the minimum step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of
 looping. A secant predictor extrapolates the last two converged states. Each converged step is measured, the
 history committed, and a :class:`Converged` yielded; the generator's return value is the :class:`LegEnd`. The

@@ -51,15 +51,18 @@ def _norm(r: np.ndarray) -> float:
 
 
 def _next_increment_small(solve, r: np.ndarray, options: NewtonOptions) -> bool:
-    """Whether the increment from the residual r, estimated by ``solve.next_increment(r)`` with the factors at hand
-    (like Deuflhard's simplified Newton correction, Newton Methods for Nonlinear Problems, Springer 2004, with an
-    earlier Jacobian's factors), is below
-    ``estimate_fraction`` dx_tol: then one more iteration, which would only confirm the increment, is saved."""
+    """Whether the increment from the residual r, as ``solve.next_increment(r)`` estimates it with the factors at
+    hand, is below ``estimate_fraction`` dx_tol; then the iteration that would only confirm it is saved. This is
+    Deuflhard's simplified Newton correction (Newton Methods for Nonlinear Problems, Springer 2004) with an earlier
+    Jacobian's factors. A failed estimate counts as not small."""
     estimate = getattr(solve, "next_increment", None)
     if estimate is None or options.estimate_fraction <= 0.0:
         return False
-    size = estimate(r)
-    return size is not None and size <= options.estimate_fraction * options.dx_tol
+    try:
+        size = estimate(r)
+    except (RuntimeError, ValueError, np.linalg.LinAlgError):
+        return False
+    return size is not None and math.isfinite(size) and size <= options.estimate_fraction * options.dx_tol
 
 
 def newton(
