@@ -4,13 +4,17 @@ quantities of interest of two result trees side by side.
     .venv/bin/python benchmarks/speed.py reproduce --repo ../clone-a --repo ../clone-b --repeats 3
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/speed.py case
     .venv/bin/python benchmarks/speed.py qoi ../clone-a/results/cases results/cases
+    .venv/bin/python benchmarks/speed.py onset ../clone-a/results/cases results/cases
+    .venv/bin/python benchmarks/speed.py iterations ../clone-a/results/cases results/cases
 
 ``reproduce`` runs ``snakemake --cores 2`` in each clone (after ``make setup`` there) with ``results/``, ``logs/``
 and ``.snakemake/`` removed before each run, the clones alternating, and prints every time and the medians.
 ``case`` runs the paper case DI at Fn* = 0 (slide to 5 L0) in this process and a fixed yardstick, SuperLU on the
 5-point Laplacian of a 300 x 300 grid plus one solve (median of 5), and prints both and their ratio. ``qoi``
 prints peak Ft, the onset of full sliding (ubar, area) and Ft at ubar = 4 L0 of every case file present in both
-directories, with the largest relative difference. Nothing is asserted: the numbers are for docs/performance.md.
+directories, with the largest relative difference; ``onset`` the slide steps between which the onset lies in each
+tree; ``iterations`` steps, Newton iterations and cut-backs. Nothing is asserted: the numbers are for
+docs/performance.md.
 """
 
 from __future__ import annotations
@@ -117,7 +121,8 @@ def cmd_onset(args) -> None:
 
 
 def iteration_counts(path: Path) -> dict[str, float]:
-    """Steps, Newton iterations and their ratio per phase, and the case's cut-backs (failed attempts)."""
+    """Steps and Newton iterations of the approach and preload together and of the slide, and the case's cut-backs
+    (failed attempts, the onset check's included)."""
     import xarray as xr
 
     with xr.open_dataset(path) as ds:
