@@ -134,7 +134,7 @@ def test_force_balance_at_every_step(di_case):
 
 def test_onset_is_located_to_its_bracket(di_case):
     """The first fully sliding step lies within 1e-3 ubar (or two smallest steps) of the last step with a stick
-    zone: a step that closes the stick zone from farther away is cut back (loadpath.cap.onset_check)."""
+    zone: a step that closes the stick zone from farther away is cut back (loadpath.slide_rules.onset_check)."""
     p, res = di_case
     slide = [r for r in res.records if r.phase == Phase.SLIDE]
     first = next(i for i, r in enumerate(slide) if r.ubar == res.scalars["onset_ubar"])

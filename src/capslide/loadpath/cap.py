@@ -40,23 +40,13 @@ from ..model.system import CapModel, History
 from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
+from .slide_rules import Mark, either, onset_check, onset_step_limit, snap_check
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
            "retraction_from", "slide_constraint", "snap_check"]
 
 LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
-
-
-@dataclass(frozen=True)
-class Mark:
-    """What the path keeps of a converged step for its own decisions."""
-
-    phase: Phase
-    ubar: float
-    Fn: float
-    area_stick: float
-    Ft: float = math.nan
 
 
 @dataclass
@@ -152,24 +142,6 @@ def _slide_control(model: CapModel) -> StepControl:
 def _min_area(model: CapModel) -> float:
     """A contact shorter than two surface elements has come off."""
     return 2.0 * H0_AT_SIZE_1 * model.params.mesh.size
-
-
-def onset_step_limit(marks: list[Mark], ubar: float, tolerance: float = 0.005) -> float:
-    """Largest next slide step while the stick zone closes: the onset of full sliding is then found to about
-    ``tolerance`` |ubar|, whatever the step size elsewhere.
-
-    The onset is predicted by extrapolating the stick area of the last two slide steps linearly to zero; the step
-    is at most half the predicted remaining distance, and at least ``tolerance`` |ubar|.
-    """
-    last = [m for m in marks[-2:] if m.phase == Phase.SLIDE]
-    if len(last) < 2 or last[-1].area_stick <= 0.0:
-        return math.inf
-    (u0, a0), (u1, a1) = [(m.ubar, m.area_stick) for m in last]
-    if a1 >= a0 or u1 == u0:
-        return math.inf
-    u_onset = u1 + a1 * (u1 - u0) / (a0 - a1)
-    # approach the predicted onset in halving steps: the stick zone shrinks faster than linearly at the end
-    return max(0.5 * abs(u_onset - ubar), tolerance * abs(ubar))
 
 
 # -- legs: each sets up its loop (unless resumed), runs it, and says what comes next ----------------------------
@@ -299,46 +271,6 @@ def slide_constraint(loading, stage_h: float):
     return lambda ubar: SlideAtForce(ubar, loading.preload)
 
 
-SNAP_DROP = 0.01  # largest fall of |Ft| in one slide step, relative to the step's start, with slip weakening
-
-
-def snap_check(state: PathState, drop: float = SNAP_DROP):
-    """With slip weakening, a slide step whose |Ft| falls by more than ``drop`` of the last step's is cut back: a
-    smooth fall then passes in short steps, and a fall that persists at the minimum step is a snap (no
-    quasi-static path; the leg ends diverged there, and the case snapped, :class:`capslide.driver.observers.Snap`).
-    Only the forward slide: sliding back unloads |Ft| elastically first."""
-    def rejects(rec) -> str | None:
-        last = state.marks[-1] if state.marks else None
-        if last is None or last.phase != rec.phase or not abs(rec.Ft) < (1.0 - drop) * abs(last.Ft):
-            return None
-        return f"|Ft| fell from {abs(last.Ft):.6g} to {abs(rec.Ft):.6g} in one step"
-    return rejects
-
-
-ONSET_BRACKET = 1e-3  # the onset of full sliding is located to this fraction of ubar (onset_check)
-
-
-def onset_check(state: PathState, smallest: float, tolerance: float = ONSET_BRACKET):
-    """A slide step that ends the stick zone (its record fully sliding, the last step's stick area > 0) is cut back
-    while it is longer than ``tolerance`` |ubar| (and than 2 ``smallest``, so that the cut-back stays above the
-    smallest step): the onset of full sliding, the first fully sliding step, is then located to that bracket."""
-    def rejects(rec) -> str | None:
-        last = state.marks[-1] if state.marks else None
-        if last is None or last.phase != rec.phase or not last.area_stick > 0.0 or not fully_sliding(rec):
-            return None
-        length = abs(rec.ubar - last.ubar)
-        if length <= max(tolerance * abs(rec.ubar), 2.0 * smallest):
-            return None
-        return f"the stick zone closed within a step of {length:.3g}"
-    return rejects
-
-
-def _either(*checks):
-    """The first reason any of ``checks`` (each None or rejects(record) -> reason or None) gives."""
-    active = [c for c in checks if c is not None]
-    return lambda rec: next((r for r in (c(rec) for c in active) if r is not None), None)
-
-
 def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
                after: str) -> Generator[PathStep, None, LegEnd]:
     control = _slide_control(model)
@@ -347,7 +279,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     forward = name == "slide"
-    rejects = _either(onset_check(state, control.minimum) if forward else None,
+    rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None)
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,

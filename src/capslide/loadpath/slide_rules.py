@@ -1,0 +1,85 @@
+"""Rules of the slide leg on the path's last converged steps (its marks): how long the next step may be while the
+stick zone closes, and which converged steps are cut back (the onset of full sliding overstepped; |Ft| falling too
+fast with slip weakening). They read the path state's marks and a step's record, nothing else; the slide leg in
+:mod:`.cap` applies them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..states import Phase
+from .measures import fully_sliding
+
+__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "ONSET_BRACKET", "onset_check", "either"]
+
+
+@dataclass(frozen=True)
+class Mark:
+    """What the path keeps of a converged step for its own decisions."""
+
+    phase: Phase
+    ubar: float
+    Fn: float
+    area_stick: float
+    Ft: float = math.nan
+
+
+def onset_step_limit(marks: list[Mark], ubar: float, tolerance: float = 0.005) -> float:
+    """Largest next slide step while the stick zone closes: the onset of full sliding is then found to about
+    ``tolerance`` |ubar|, whatever the step size elsewhere.
+
+    The onset is predicted by extrapolating the stick area of the last two slide steps linearly to zero; the step
+    is at most half the predicted remaining distance, and at least ``tolerance`` |ubar|.
+    """
+    last = [m for m in marks[-2:] if m.phase == Phase.SLIDE]
+    if len(last) < 2 or last[-1].area_stick <= 0.0:
+        return math.inf
+    (u0, a0), (u1, a1) = [(m.ubar, m.area_stick) for m in last]
+    if a1 >= a0 or u1 == u0:
+        return math.inf
+    u_onset = u1 + a1 * (u1 - u0) / (a0 - a1)
+    # approach the predicted onset in halving steps: the stick zone shrinks faster than linearly at the end
+    return max(0.5 * abs(u_onset - ubar), tolerance * abs(ubar))
+
+
+SNAP_DROP = 0.01  # largest fall of |Ft| in one slide step, relative to the step's start, with slip weakening
+
+
+def snap_check(state, drop: float = SNAP_DROP):
+    """With slip weakening, a slide step whose |Ft| falls by more than ``drop`` of the last step's is cut back: a
+    smooth fall then passes in short steps, and a fall that persists at the minimum step is a snap (no
+    quasi-static path; the leg ends diverged there, and the case snapped, :class:`capslide.driver.observers.Snap`).
+    Only the forward slide: sliding back unloads |Ft| elastically first. ``state``: the path state, whose marks are
+    read at each step."""
+    def rejects(rec) -> str | None:
+        last = state.marks[-1] if state.marks else None
+        if last is None or last.phase != rec.phase or not abs(rec.Ft) < (1.0 - drop) * abs(last.Ft):
+            return None
+        return f"|Ft| fell from {abs(last.Ft):.6g} to {abs(rec.Ft):.6g} in one step"
+    return rejects
+
+
+ONSET_BRACKET = 1e-3  # the onset of full sliding is located to this fraction of ubar (onset_check)
+
+
+def onset_check(state, smallest: float, tolerance: float = ONSET_BRACKET):
+    """A slide step that ends the stick zone (its record fully sliding, the last step's stick area > 0) is cut back
+    while it is longer than ``tolerance`` |ubar| (and than 2 ``smallest``, so that the cut-back stays above the
+    smallest step): the onset of full sliding, the first fully sliding step, is then located to that bracket."""
+    def rejects(rec) -> str | None:
+        last = state.marks[-1] if state.marks else None
+        if last is None or last.phase != rec.phase or not last.area_stick > 0.0 or not fully_sliding(rec):
+            return None
+        length = abs(rec.ubar - last.ubar)
+        if length <= max(tolerance * abs(rec.ubar), 2.0 * smallest):
+            return None
+        return f"the stick zone closed within a step of {length:.3g}"
+    return rejects
+
+
+def either(*checks):
+    """The first reason any of ``checks`` (each None or rejects(record) -> reason or None) gives."""
+    active = [c for c in checks if c is not None]
+    return lambda rec: next((r for r in (c(rec) for c in active) if r is not None), None)
