@@ -79,8 +79,13 @@ def qois(path: Path) -> dict[str, float]:
     return out
 
 
+def common_files(before: Path, after: Path) -> list[str]:
+    """Names of the case files present in both directories, sorted."""
+    return sorted(p.name for p in before.glob("*.nc") if (after / p.name).is_file())
+
+
 def cmd_qoi(args) -> None:
-    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    names = common_files(args.before, args.after)
     print("| case | " + " | ".join(QOIS) + " | largest relative difference |")
     print("|---|" + "---|" * (len(QOIS) + 1))
     worst_all = 0.0
@@ -107,7 +112,7 @@ def onset_bracket(path: Path) -> tuple[float, float]:
 
 
 def cmd_onset(args) -> None:
-    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    names = common_files(args.before, args.after)
     print("| case | before: bracket (L0) | width (%) | after: bracket (L0) | width (%) | after's onset in before's bracket |")
     print("|---|---|---|---|---|---|")
     for name in names:
@@ -135,7 +140,7 @@ def iteration_counts(path: Path) -> dict[str, float]:
 
 
 def cmd_iterations(args) -> None:
-    names = sorted(p.name for p in args.before.glob("*.nc") if (args.after / p.name).is_file())
+    names = common_files(args.before, args.after)
     print("| case | approach + preload: steps, Newton (before -> after) | slide: steps, Newton, per step | cut-backs |")
     print("|---|---|---|---|")
     total = {"before": 0, "after": 0}
