@@ -12,7 +12,8 @@ Krylov iteration count has grown past ``rebuild_factor`` times the count
 right after the last rebuild, when a solve fails even after one restart from
 its iterate, or when asked to. The true relative residual ||b - A x|| / ||b||
 is computed after every solve; a solve whose Krylov method reports convergence
-but whose true residual is above 10 rtol counts as failed.
+but whose true residual is above 10 rtol counts as failed (above min(10 rtol, 0.9)
+for the looser tolerance an inexact Newton step asks of ``solve_bordered``).
 """
 
 from __future__ import annotations
