@@ -181,8 +181,8 @@ def test_stagnation_test_on_the_caps_jump_in():
 
 
 def test_stagnation_fails_early_and_slow_contraction_does_not():
-    """Newton on x = 0 with a Jacobian 100 times too small: every step is damped to 1/64 and the residual falls
-    only 0.56-fold per iteration, but the increment shrinks with it, so the solve converges. The same problem with
+    """Newton on x = 0 with a Jacobian 100 times too small: every step is damped to 1/64 and the residual
+    falls only to 0.56 of itself per iteration, but the increment shrinks with it, so the solve converges. The same problem with
     an increment of fixed length 3 toward the root (damped to the halving of |x| each iteration, and never
     shorter) fails as stagnated after stagnation_window iterations instead of running to max_iterations."""
     f = lambda x: x.copy()  # noqa: E731

@@ -62,14 +62,6 @@ rule normal_state:
         f"{THREADS_ENV} {CAPSLIDE} preload --resume {CONFIG_ARGS} {{params.overrides}} {{params.start}} -o {{output}} > {{log}} 2>&1"
 
 
-def case_priority(wildcards):
-    """Longest first, so that the two cores finish together: a slide's cost grows with the preload's compression
-    (tensile cases are the quickest, docs/performance.md), and every case ranks below the normal states (10).
-    """
-    preload = CASES[wildcards.case].get("loading.preload", config["loading"]["preload"])
-    return 5.0 - 10.0 * float(preload)
-
-
 rule run_case:
     input:
         CONFIG_FILES,
@@ -86,7 +78,7 @@ rule run_case:
         "results/benchmarks/cases/{case}.tsv"
     wildcard_constraints:
         case="|".join(re.escape(c) for c in CASES) if CASES else "none",
-    priority: case_priority
+    priority: lambda wildcards: case_priority(CASES[wildcards.case])
     conda:
         ENV
     threads: 1

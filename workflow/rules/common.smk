@@ -97,3 +97,11 @@ def shared_state(sets):
     if shares_normal_state(config, sets) and STATE_PRELOADS.get(name) == preload:
         return name
     return None
+
+
+def case_priority(sets):
+    """Longest first, so that the two cores finish together: a slide's cost grows with the preload's compression
+    (tensile cases are the quickest, docs/performance.md), and every case ranks below the normal states (10).
+    """
+    preload = sets.get("loading.preload", config["loading"]["preload"])
+    return 5.0 - 10.0 * float(preload)
