@@ -165,7 +165,9 @@ def test_inexact_newton_converges_superlinearly_to_the_same_root():
 def test_stagnation_test_on_the_caps_jump_in():
     """The increments and line-search steps of three approach solves of the paper DI case at the jump-in (printed per
     iteration): two stalled (alpha 1/16 to 1/32, the increment growing; each ran to 30 iterations and failed) and
-    one slow solve that converged in 15. After 8 iterations the test stops both stalls and lets the slow one go on."""
+    one slow solve that converged in 15. After 8 iterations the test stops both stalls and lets the slow one go on.
+    It also lets go on the first slide step of EA at Fn* = -0.288 with eps_t doubled (tests/test_sliding.py, slow):
+    8 damped steps whose increment fell only from 7.94e-3 to 4.14e-3 (a halving test stopped it), and it converges."""
     from capslide.solvers.newton import _stagnated
 
     stalled_1 = ([0.145, 0.172, 0.192, 0.214, 0.230, 0.240, 0.246, 0.249],
@@ -176,6 +178,7 @@ def test_stagnation_test_on_the_caps_jump_in():
     window = NewtonOptions().stagnation_window
     assert _stagnated(*stalled_1, window) and _stagnated(*stalled_2, window)
     assert not any(_stagnated(converging[0][:k], converging[1][:k], window) for k in range(1, 10))
+    assert not _stagnated([7.94e-3] + [6e-3] * 6 + [4.14e-3], [0.5] * 8, window)
     assert not _stagnated(stalled_1[0][:-1], stalled_1[1][:-1], window)  # not before the window is full
     assert not _stagnated(*stalled_1, 0)
 

@@ -16,7 +16,7 @@ follows Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996, 16-32):
 a loose linear solve while the Newton residual falls slowly (a contact's
 stick-slip front advancing a few points per iteration), the solver's own
 tolerance once it falls fast. A solve whose steps stay damped by the line
-search and whose increment does not halve over ``stagnation_window``
+search and whose increment does not shrink over ``stagnation_window``
 iterations has stagnated and fails early, so the caller can cut its step.
 """
 
@@ -45,7 +45,7 @@ class NewtonOptions:
     forcing: float = 0.9  # Eisenstat-Walker gamma: eta_k = gamma (|r_k| / |r_k-1|)^2 (0: exact linear solves)
     first_forcing: float = 1e-2  # eta of the first iteration of a solve, before any ratio is known
     max_forcing: float = 0.5
-    stagnation_window: int = 8  # damped iterations without the increment halving before a stall fails (0: never)
+    stagnation_window: int = 8  # damped iterations without the increment shrinking before a stall fails (0: never)
 
 
 @dataclass
@@ -92,10 +92,10 @@ def forcing_term(options: NewtonOptions, r_norm: float, r_prev: float | None, et
 
 def _stagnated(sizes: list[float], alphas: list[float], window: int) -> bool:
     """Whether the last ``window`` iterations were all damped (alpha < 1) and the full Newton increment has not
-    halved across them: the line search keeps shortening a direction that does not shrink."""
+    shrunk across them: the line search keeps shortening a direction that does not shrink."""
     if window <= 0 or len(sizes) < window:
         return False
-    return max(alphas[-window:]) < 1.0 and sizes[-1] > 0.5 * sizes[-window]
+    return max(alphas[-window:]) < 1.0 and sizes[-1] >= sizes[-window]
 
 
 def newton(
