@@ -162,45 +162,6 @@ def test_inexact_newton_converges_superlinearly_to_the_same_root():
     np.testing.assert_allclose(res.x, res0.x, atol=1e-12)
 
 
-def test_stagnation_test_on_the_caps_jump_in():
-    """The increments and line-search steps of three approach solves of the paper DI case at the jump-in (printed per
-    iteration): two stalled (alpha 1/16 to 1/32, the increment growing; each ran to 30 iterations and failed) and
-    one slow solve that converged in 15. After 8 iterations the test stops both stalls and lets the slow one go on.
-    It also lets go on the first slide step of EA at Fn* = -0.288 with eps_t doubled (tests/test_sliding.py, slow):
-    8 damped steps whose increment fell only from 7.94e-3 to 4.14e-3 (a halving test stopped it), and it converges."""
-    from capslide.solvers.newton import _stagnated
-
-    stalled_1 = ([0.145, 0.172, 0.192, 0.214, 0.230, 0.240, 0.246, 0.249],
-                 [0.125, 0.125, 0.0625, 0.0625, 0.0625, 0.0625, 0.0625, 0.0625])
-    stalled_2 = ([0.108, 0.195, 0.278, 0.238, 0.243, 0.357, 0.284, 0.281], [0.25, 0.125, 0.125, 0.125] + [0.0625] * 4)
-    converging = ([0.277, 0.426, 0.283, 0.219, 0.157, 0.129, 0.0999, 0.0856, 0.0709],
-                  [0.5, 0.125, 0.125, 0.25, 0.25, 0.25, 0.25, 0.25, 0.5])
-    window = NewtonOptions().stagnation_window
-    assert _stagnated(*stalled_1, window) and _stagnated(*stalled_2, window)
-    assert not any(_stagnated(converging[0][:k], converging[1][:k], window) for k in range(1, 10))
-    assert not _stagnated([7.94e-3] + [6e-3] * 6 + [4.14e-3], [0.5] * 8, window)
-    assert not _stagnated(stalled_1[0][:-1], stalled_1[1][:-1], window)  # not before the window is full
-    assert not _stagnated(*stalled_1, 0)
-
-
-def test_stagnation_fails_early_and_slow_contraction_does_not():
-    """Newton on x = 0 with a Jacobian 100 times too small: every step is damped to 1/64 and the residual
-    falls only to 0.56 of itself per iteration, but the increment shrinks with it, so the solve converges. The same problem with
-    an increment of fixed length 3 toward the root (damped to the halving of |x| each iteration, and never
-    shorter) fails as stagnated after stagnation_window iterations instead of running to max_iterations."""
-    f = lambda x: x.copy()  # noqa: E731
-    slow = newton(*_problem(f, lambda x: np.array([[0.01]])), np.array([1.0]), NewtonOptions(max_iterations=100))
-    assert slow.converged and slow.iterations > 2 * NewtonOptions().stagnation_window, slow.reason
-
-    def linearize(x):
-        return f(x), lambda r: np.sign(r) * 3.0  # toward the root, but never shorter
-
-    res = newton(f, linearize, np.array([1.0]), NewtonOptions(max_iterations=30))
-    assert not res.converged and res.reason.startswith("stagnated") and res.iterations == 8, res.reason
-    patient = newton(f, linearize, np.array([1.0]), NewtonOptions(max_iterations=30, stagnation_window=0))
-    assert not patient.converged and patient.iterations == 30
-
-
 def test_inexact_newton_on_the_cap(paper_config, monkeypatch):
     """A coarse DI case solved with the forcing term and with exact linear solves (forcing = 0) reaches the same
     preloaded state and the same friction (peak Ft, steady Ft) to 1e-6 (Fn at the preload Fn* = 0: to the Newton

@@ -15,9 +15,7 @@ the relative residual eta only: an inexact Newton method whose forcing term eta
 follows Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996, 16-32):
 a loose linear solve while the Newton residual falls slowly (a contact's
 stick-slip front advancing a few points per iteration), the solver's own
-tolerance once it falls fast. A solve whose steps stay damped by the line
-search and whose increment does not shrink over ``stagnation_window``
-iterations has stagnated and fails early, so the caller can cut its step.
+tolerance once it falls fast.
 """
 
 from __future__ import annotations
@@ -45,7 +43,6 @@ class NewtonOptions:
     forcing: float = 0.9  # Eisenstat-Walker gamma: eta_k = gamma (|r_k| / |r_k-1|)^2 (0: exact linear solves)
     first_forcing: float = 1e-2  # eta of the first iteration of a solve, before any ratio is known
     max_forcing: float = 0.5
-    stagnation_window: int = 8  # damped iterations without the increment shrinking before a stall fails (0: never)
 
 
 @dataclass
@@ -90,14 +87,6 @@ def forcing_term(options: NewtonOptions, r_norm: float, r_prev: float | None, et
     return min(eta, options.max_forcing)
 
 
-def _stagnated(sizes: list[float], alphas: list[float], window: int) -> bool:
-    """Whether the last ``window`` iterations were all damped (alpha < 1) and the full Newton increment has not
-    shrunk across them: the line search keeps shortening a direction that does not shrink."""
-    if window <= 0 or len(sizes) < window:
-        return False
-    return max(alphas[-window:]) < 1.0 and sizes[-1] >= sizes[-window]
-
-
 def newton(
     residual: Callable[[np.ndarray], np.ndarray],
     linearize: Callable[[np.ndarray], tuple[np.ndarray, Callable[[np.ndarray], np.ndarray]]],
@@ -123,8 +112,6 @@ def newton(
     tol = max(options.atol, options.rtol * r_ref)
     r0 = max(r_norm, options.atol)
     eta, r_prev = None, None
-    sizes: list[float] = []  # ||dx||_inf of the full Newton increments
-    alphas: list[float] = []  # line-search step lengths taken
     for it in range(1, options.max_iterations + 1):
         if not math.isfinite(r_norm):
             return NewtonResult(x, False, it - 1, "residual is not finite", norms, lin_its)
@@ -161,17 +148,11 @@ def newton(
         x = x_try
         r_prev, r_norm = r_norm, n_try
         norms.append(r_norm)
-        sizes.append(float(np.max(np.abs(dx))) if dx.size else 0.0)
-        alphas.append(alpha)
-        step = alpha * sizes[-1]
+        step = alpha * float(np.max(np.abs(dx))) if dx.size else 0.0
         if r_norm <= tol and (step <= options.dx_tol or _next_increment_small(solve, r_try, options)):
             return NewtonResult(x, True, it, "converged", norms, lin_its)  # converged: no tangent needed at x
         if not math.isfinite(r_norm) or r_norm > options.divergence_factor * r0:
             return NewtonResult(x, False, it, f"diverged: residual {r_norm:.3e}", norms, lin_its)
-        if _stagnated(sizes, alphas, options.stagnation_window):
-            return NewtonResult(x, False, it, f"stagnated: {options.stagnation_window} damped steps, increment "
-                                f"{sizes[-options.stagnation_window]:.2e} to {sizes[-1]:.2e}, residual {r_norm:.3e}",
-                                norms, lin_its)
         r, solve = linearize(x)
     return NewtonResult(x, False, options.max_iterations,
                         f"no convergence in {options.max_iterations} iterations (residual {r_norm:.3e})", norms, lin_its)
