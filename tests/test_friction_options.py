@@ -112,8 +112,11 @@ def test_normal_traction_per_current_area(paper_config):
 
 def test_energy_balance_closes_to_second_order_in_the_step(paper_config):
     """Work of the loads = change of elastic, adhesive and penalty energy + dissipation, step by step. The slide
-    (no snap) closes to the accuracy of the trapezoidal work, second order in the step; the jump-in of the
-    approach releases energy that no quasi-static path accounts for (a snap), the same at any approach step."""
+    (no snap) closes to the accuracy of the trapezoidal work, second order in the step. So does the approach: its
+    apex-gap control follows the jump-in through its turning point, and what looked like a snap's energy was the
+    trapezoidal error of its steep last steps. Summed over the approach, measured: 1.4e-2 with the approach steps
+    before issue 19, 6.2e-3 with the cap near the end gap (loadpath.cap.approach_step_limit), 2.7e-3, 1.4e-3 and
+    1.2e-3 with its floor 2, 4 and 8 times smaller."""
     growth, work, worst = [], [], []
     for step in (0.1, 0.05):
         _, _, ds = case(paper_config, f"loading.max_slide_step={step}")
@@ -123,7 +126,7 @@ def test_energy_balance_closes_to_second_order_in_the_step(paper_config):
         work.append(W[-1] - W[first - 1])
         worst.append(np.abs(np.diff(R[first - 1:])).max() / abs(work[-1]))  # the worst slide step
         snap = np.diff(R[:first])
-        assert np.abs(snap).max() > 0.01 and np.sum(np.abs(snap) > 1e-3) == 1  # one step of the approach: the jump-in
+        assert np.abs(snap).sum() < 0.01  # the approach, its last steps capped
     print("slide: |residual| / work at max_slide_step 0.1, 0.05:", [g / w for g, w in zip(growth, work)],
           "worst step:", worst)
     assert growth[1] < growth[0] / 3.0 and growth[1] < 1e-5 * work[1]

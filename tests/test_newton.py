@@ -109,3 +109,91 @@ def test_next_increment_estimate_on_the_cap(paper_config, monkeypatch):
     assert sum(used) > len(exact) // 2
     assert np.all((ratio >= 0.5) & (ratio <= 2.5))
     assert max(exact) <= NewtonOptions().dx_tol
+
+
+def test_forcing_term_follows_eisenstat_walker():
+    """Choice 2 with gamma = 0.9: the first iteration solves exactly (None); a residual that halved gets 0.9 / 4;
+    one that fell 1e4-fold gets 0.9e-8; the safeguard keeps eta from dropping below gamma eta_prev^2 while that is
+    above 0.1; max_forcing caps it."""
+    from capslide.solvers.newton import forcing_term
+
+    o = NewtonOptions()
+    assert forcing_term(o, 1.0, None, None) is None
+    assert np.isclose(forcing_term(o, 0.5, 1.0, 1e-2), 0.9 / 4)
+    assert np.isclose(forcing_term(o, 1e-4, 1.0, 1e-2), 0.9e-8)
+    assert np.isclose(forcing_term(o, 1e-4, 1.0, 0.45), 0.9 * 0.45**2)  # safeguard: 0.18 > 0.1
+    assert forcing_term(o, 0.99, 1.0, 0.5) == o.max_forcing
+
+
+def _inexact_problem(f, J, etas):
+    """Newton's problem with a linear solve that is off by exactly its tolerance: J dx = r + eta |r| q, q a fixed unit
+    vector; ``etas`` records every tolerance asked for (None: exact)."""
+    def linearize(x):
+        jac, r = J(x), f(x)
+
+        def solve(rhs, eta=None):
+            etas.append(eta)
+            q = np.ones_like(rhs) / np.sqrt(rhs.size)
+            return np.linalg.solve(jac, rhs + (eta or 0.0) * np.linalg.norm(rhs) * q)
+
+        solve.inexact = True
+        return r, solve
+
+    return f, linearize
+
+
+def test_inexact_newton_converges_superlinearly_to_the_same_root():
+    """With linear solves only as accurate as the forcing term asks, Newton still reaches the root of the cubic
+    system to the tolerance: the first solve is exact, the later ones loose while the residual falls slowly, then
+    tighter as it falls fast (the last eta below 1e-6), and the last reductions stay superlinear. With forcing = 0
+    every solve is exact."""
+    f = lambda x: np.array([x[0] ** 3 + x[1] - 1.0, x[1] ** 3 - x[0] + 1.0])  # noqa: E731
+    J = lambda x: np.array([[3 * x[0] ** 2, 1.0], [-1.0, 3 * x[1] ** 2]])  # noqa: E731
+    opts = NewtonOptions(rtol=1e-14, atol=1e-14, dx_tol=1e-12, max_iterations=60)
+    etas = []
+    res = newton(*_inexact_problem(f, J, etas), np.array([2.0, 1.0]), opts)
+    assert res.converged, res.reason
+    np.testing.assert_allclose(res.x, [1.0, 0.0], atol=1e-12)
+    assert etas[0] is None and max(etas[1:]) > 1e-3 and etas[-1] < 1e-6
+    assert min(observed_orders(res.residual_norms)[-2:]) > 1.5
+    exact = []
+    res0 = newton(*_inexact_problem(f, J, exact), np.array([2.0, 1.0]), NewtonOptions(
+        rtol=1e-14, atol=1e-14, dx_tol=1e-12, max_iterations=60, forcing=0.0))
+    assert res0.converged and set(exact) == {None}
+    np.testing.assert_allclose(res.x, res0.x, atol=1e-12)
+
+
+def test_inexact_newton_on_the_cap(paper_config, monkeypatch):
+    """A coarse DI case solved with the forcing term and with exact linear solves (forcing = 0) reaches the same
+    preloaded state and the same friction (peak Ft, steady Ft) to 1e-6 (Fn at the preload Fn* = 0: to the Newton
+    tolerance), with far fewer Krylov iterations."""
+    import dataclasses
+
+    from capslide.config import apply_overrides, validate
+    from capslide.driver.case import run_case
+    from capslide.loadpath import continuation as cont
+    from capslide.params import Parameters
+
+    p = Parameters.from_config(validate(apply_overrides(paper_config, [
+        "preset=fast", "mesh.size=32", "loading.ubar_max=2.5", "output.snapshot_ubar=[]", "friction.model=DI"])))
+    runs = {}
+    default_options = cont.newton_options
+    for forcing in (NewtonOptions().forcing, 0.0):
+        monkeypatch.setattr(cont, "newton_options",
+                            lambda model, f=forcing: dataclasses.replace(default_options(model), forcing=f))
+        result = run_case(p)
+        assert result.status.label == "completed"
+        runs[forcing] = result.records
+    inexact, exact = runs.values()
+
+    def summary(records):
+        preloaded = [r for r in records if r.phase.label == "preload"][-1]
+        slide = [r for r in records if r.phase.label == "slide"]
+        return {"Fn preloaded": preloaded.Fn, "area preloaded": preloaded.area,
+                "peak Ft": max(abs(r.Ft) for r in slide), "final Ft": slide[-1].Ft}
+
+    krylov = [sum(r.krylov_iterations for r in records) for records in (inexact, exact)]
+    print(summary(inexact), summary(exact), "Krylov iterations", krylov)
+    for name, value in summary(exact).items():
+        assert abs(summary(inexact)[name] - value) <= 1e-6 * abs(value) + 1e-9, name  # 1e-9 E L0 W: Newton's tol
+    assert krylov[0] < 0.8 * krylov[1]

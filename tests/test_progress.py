@@ -52,7 +52,7 @@ def test_the_bar_fits_80_columns_and_stays_on_one_line(tmp_path):
 
 
 def test_without_a_terminal_one_line_per_step_and_the_cut_backs(tmp_path):
-    res = subprocess.run([*RUN, "--set", "loading.slide_step=0.05", "--set", "loading.max_slide_step=1.0",
+    res = subprocess.run([*RUN, "--set", "loading.slide_step=0.2", "--set", "loading.max_slide_step=1.0",
                           "-o", str(tmp_path / "case.nc")], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     lines = res.stderr.splitlines()

@@ -123,6 +123,16 @@ def test_step_and_penalty_sensitivity_below_one_percent(paper_config, overrides)
         assert other["onset_ubar"] == pytest.approx(ref["onset_ubar"], rel=0.01)
 
 
+def test_stiff_penalty_first_slide_step_converges_with_inexact_newton(paper_config):
+    """EA at Fn* = -0.288 with eps_t doubled: its first slide step, where friction switches on against a stiff
+    penalty, ran to 30 Newton iterations and the case diverged when the first linear solve of a Newton solve was
+    loose (eta = 1e-2, issue 19); with the first solve exact it completes, and the onset is found."""
+    res = run_case(params_with(paper_config, "friction.model=EA", "friction.s_cut=0", "loading.preload=-0.288",
+                               f"friction.eps_t={2 * paper_config['friction']['eps_t']}"))
+    assert res.status.label == "completed", res.reason
+    assert np.isfinite(res.scalars["onset_ubar"])
+
+
 def test_force_balance_at_every_step(di_case):
     """The contact force on the cap equals minus the internal force at the clamped base, at every converged step."""
     p, res = di_case

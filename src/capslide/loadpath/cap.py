@@ -43,8 +43,8 @@ from .measures import StepRecord, fully_sliding
 from .slide_rules import Mark, either, onset_check, onset_step_limit, snap_check
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
-           "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding", "preload_targets",
-           "retraction_from", "slide_constraint", "snap_check"]
+           "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
+           "preload_targets", "retraction_from", "slide_constraint", "snap_check"]
 
 LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
 
@@ -114,6 +114,17 @@ def seconds_per_unit(model: CapModel) -> float:
 def approach_control(model: CapModel) -> StepControl:
     L = model.params.loading
     return StepControl(L.approach_step, 1e-4 * model.params.adhesion.r0, L.approach_step, max_cutbacks=L.max_cutbacks)
+
+
+APPROACH_MIN_CAP = 0.02  # r0: the approach's smallest step cap
+
+
+def approach_step_limit(model: CapModel):
+    """The approach's step cap at apex gap g (L0): half the distance left to the end gap, at least 0.02 r0. The
+    last steps before the end gap pull the surface around the apex in, and longer ones ran to the Newton limit and
+    were cut back (docs/performance.md)."""
+    end, floor = model.params.loading.approach_end_gap, APPROACH_MIN_CAP * model.params.adhesion.r0
+    return lambda gap: max(0.5 * abs(gap - end), floor)
 
 
 def spread_control(model: CapModel) -> StepControl:
@@ -227,7 +238,7 @@ def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Pat
     after = "spread" if L.approach_edge_step > 0.0 else "preload"
     steps = continuation(model, state.loop, state.history,
                          Leg(FixedApexGap, L.approach_end_gap, control, Phase.APPROACH, "approach",
-                             seconds_per_unit=seconds_per_unit(model)))
+                             step_limit=approach_step_limit(model), seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, after))
 
 
@@ -253,7 +264,7 @@ def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Path
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     steps = continuation(model, state.loop, state.history,
                          Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=detached if retracting else None,
-                             seconds_per_unit=seconds_per_unit(model)))
+                             seconds_per_unit=seconds_per_unit(model), secant=False))
     end = yield from _run(model, state, steps, _after_preload(model))
     Fn = _current_Fn(model, state)
     if end.status == Status.DIVERGED and target > Fn and target > 0:  # no equilibrium at the tensile force: pull-off

@@ -4,10 +4,11 @@
 by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; a step
 shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below
 the minimum step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of
-looping. A secant predictor extrapolates the last two converged states. Each converged step is measured, the
-history committed, and a :class:`Converged` yielded; the generator's return value is the :class:`LegEnd`. The
-loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again from a saved one.
-Nothing here knows of files, terminals or checkpoints.
+looping. A secant predictor extrapolates the last two converged states, unless the leg asks for none (under force
+control it started the preload's Newton solves farther off than the last state did). Each converged step is
+measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
+:class:`LegEnd`. The loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again
+from a saved one. Nothing here knows of files, terminals or checkpoints.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ class Leg:
     step_limit: Callable[[float], float] | None = None
     rejects: Callable[[StepRecord], str | None] | None = None
     seconds_per_unit: float = 0.0  # time (s) a unit change of the load value takes (0: no time passes)
+    secant: bool = True  # predict from the last two converged states (False: start from the last one)
 
 
 @dataclass
@@ -167,7 +169,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
             target = loop.pending[0]
         t0 = time.perf_counter()
         x0 = loop.x
-        if loop.x_prev is not None and loop.value_prev != loop.value:  # secant predictor
+        if leg.secant and loop.x_prev is not None and loop.value_prev != loop.value:  # secant predictor
             x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
             if not model.admissible(x0):
                 x0 = loop.x

@@ -43,11 +43,14 @@ class History:
 
 
 class BorderedSolve:
-    """Callable returning J^{-1} r for the bordered Jacobian [K c; d^T e]; counts Krylov iterations."""
+    """Callable returning J^{-1} r for the bordered Jacobian [K c; d^T e]; counts Krylov iterations. ``inexact``:
+    the solver runs one Krylov solve on the bordered system, and ``self(r, eta)`` stops it at the relative residual
+    eta (never below the solver's own tolerance); other solvers ignore eta."""
 
     def __init__(self, solver, K, c, d, e):
         self.solver, self.K, self.c, self.d, self.e = solver, K, c, d, e
         self.iterations = 0
+        self.inexact = hasattr(solver, "solve_bordered")
 
     def next_increment(self, r: np.ndarray) -> float | None:
         """||J0^{-1} r||_inf with the solver's stored factors J0 (an earlier Jacobian, or this one with the direct
@@ -57,9 +60,9 @@ class BorderedSolve:
         dx = None if approximate is None else approximate(self.c, self.d, self.e, r)
         return None if dx is None else float(np.max(np.abs(dx)))
 
-    def __call__(self, r: np.ndarray) -> np.ndarray:
-        if hasattr(self.solver, "solve_bordered"):  # one Krylov run on the whole bordered system
-            x, info = self.solver.solve_bordered(self.K, self.c, self.d, self.e, r)
+    def __call__(self, r: np.ndarray, eta: float | None = None) -> np.ndarray:
+        if self.inexact:  # one Krylov run on the whole bordered system
+            x, info = self.solver.solve_bordered(self.K, self.c, self.d, self.e, r, rtol=eta)
             self.iterations += info.iterations
             return x
         R, G = r[:-1], r[-1]

@@ -9,6 +9,15 @@ increment (``||dx||_inf <= dx_tol``, in length units) to be small: the increment
 just taken, or the next one as ``solve.next_increment(r)`` estimates it, when
 the linearization offers that (then the iteration that would only confirm a
 small increment is saved).
+
+When ``solve.inexact`` is true, ``solve(r, eta)`` solves the linearization to
+the relative residual eta only: an inexact Newton method whose forcing term eta
+follows Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996, 16-32):
+a loose linear solve while the Newton residual falls slowly (a contact's
+stick-slip front advancing a few points per iteration), the solver's own
+tolerance once it falls fast. The first iteration of every solve is exact
+(eta None): it carries the step's load increment, and a loose first solve
+made a stiff-penalty sliding case diverge (docs/performance.md).
 """
 
 from __future__ import annotations
@@ -19,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["NewtonOptions", "NewtonResult", "newton"]
+__all__ = ["NewtonOptions", "NewtonResult", "forcing_term", "newton"]
 
 
 @dataclass(frozen=True)
@@ -33,6 +42,8 @@ class NewtonOptions:
     divergence_factor: float = 1e6  # ||r|| above this times the initial one: diverged
     estimate_fraction: float = 0.1  # a residual below tolerance also converges when the estimated next increment
     # (solve.next_increment) is below this fraction of dx_tol (0: never estimate)
+    forcing: float = 0.9  # Eisenstat-Walker gamma: eta_k = gamma (|r_k| / |r_k-1|)^2 (0: exact linear solves)
+    max_forcing: float = 0.5  # eta never above this
 
 
 @dataclass
@@ -65,6 +76,20 @@ def _next_increment_small(solve, r: np.ndarray, options: NewtonOptions) -> bool:
     return size is not None and math.isfinite(size) and size <= options.estimate_fraction * options.dx_tol
 
 
+def forcing_term(options: NewtonOptions, r_norm: float, r_prev: float | None, eta_prev: float | None
+                 ) -> float | None:
+    """Eisenstat-Walker choice 2 (alpha = 2) with their safeguard: the relative tolerance of the linear solve from
+    the residual norms of this iteration and the last, at most ``max_forcing``; None (the solver's own tolerance) at
+    the first iteration, before any ratio is known."""
+    if r_prev is None or r_prev <= 0.0:
+        return None
+    gamma = options.forcing
+    eta = gamma * (r_norm / r_prev) ** 2
+    if eta_prev is not None and gamma * eta_prev**2 > 0.1:  # do not tighten abruptly after a loose solve
+        eta = max(eta, gamma * eta_prev**2)
+    return min(eta, options.max_forcing)
+
+
 def newton(
     residual: Callable[[np.ndarray], np.ndarray],
     linearize: Callable[[np.ndarray], tuple[np.ndarray, Callable[[np.ndarray], np.ndarray]]],
@@ -89,11 +114,16 @@ def newton(
     r_ref = r_norm if r_ref is None else r_ref
     tol = max(options.atol, options.rtol * r_ref)
     r0 = max(r_norm, options.atol)
+    eta, r_prev = None, None
     for it in range(1, options.max_iterations + 1):
         if not math.isfinite(r_norm):
             return NewtonResult(x, False, it - 1, "residual is not finite", norms, lin_its)
         try:
-            dx = solve(r)
+            if options.forcing > 0.0 and getattr(solve, "inexact", False):
+                eta = forcing_term(options, r_norm, r_prev, eta)
+                dx = solve(r, eta)
+            else:
+                dx = solve(r)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
             return NewtonResult(x, False, it - 1, f"linear solve failed: {err}", norms, lin_its)
         lin_its += getattr(solve, "iterations", 0)
@@ -119,7 +149,7 @@ def newton(
                 return NewtonResult(x, False, it - 1, "no admissible step (inverted elements)", norms, lin_its)
             x_try, r_try, n_try, alpha = x_ok, r_ok, n_ok, alpha_ok
         x = x_try
-        r_norm = n_try
+        r_prev, r_norm = r_norm, n_try
         norms.append(r_norm)
         step = alpha * float(np.max(np.abs(dx))) if dx.size else 0.0
         if r_norm <= tol and (step <= options.dx_tol or _next_increment_small(solve, r_try, options)):
