@@ -1,8 +1,8 @@
 """Compare two trees of case files whose slides took different steps (a change of the step control): the approach
 and preload records step by step (or, when they took different steps, the last record of each: the approached
-and the preloaded state), and the slide records at every ubar both runs
-reached. Prints, per part, the step variables with the largest difference relative to the variable's largest
-magnitude in the first tree, and the file where it occurs. Wall times and iteration counts are left out.
+and the preloaded state), and the slide records at every ubar both runs reached. Prints, per part, the step
+variables with the largest difference relative to the variable's largest magnitude in the first tree, and the file
+where it occurs. Wall times and iteration counts are left out.
 
     .venv/bin/python benchmarks/compare_at_common_ubar.py /tmp/before /tmp/after [--top 12]
 """
@@ -26,7 +26,7 @@ def record_rows(ds: xr.Dataset) -> tuple[np.ndarray, dict[float, int]]:
     return np.flatnonzero(phase != SLIDE), {float(ubar[i]): int(i) for i in slide}
 
 
-def phase_ends(a: xr.Dataset, rows_a: np.ndarray, rows_b: np.ndarray, b: xr.Dataset) -> tuple[list[int], list[int]]:
+def phase_ends(a: xr.Dataset, b: xr.Dataset, rows_a: np.ndarray, rows_b: np.ndarray) -> tuple[list[int], list[int]]:
     """The last approach and preload records of each tree (the approached and the preloaded state)."""
     pa, pb = a["phase"].values, b["phase"].values
     phases = [p for p in dict.fromkeys(pa[rows_a]) if p in set(pb[rows_b])]
@@ -38,7 +38,7 @@ def largest_differences(a: xr.Dataset, b: xr.Dataset) -> dict[tuple[str, str], f
     normal_a, slide_a = record_rows(a)
     normal_b, slide_b = record_rows(b)
     if len(normal_a) != len(normal_b):  # a change of their step control: the last state of each phase
-        normal_a, normal_b = phase_ends(a, normal_a, normal_b, b)
+        normal_a, normal_b = phase_ends(a, b, normal_a, normal_b)
     common = sorted(set(slide_a) & set(slide_b))
     parts = {"approach + preload": (normal_a, normal_b),
              "slide at common ubar": ([slide_a[u] for u in common], [slide_b[u] for u in common])}
