@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from capslide.fem.assembly import BulkForm, cell_dofs, rigid_body_modes
 from capslide.fem.mesh import CapMeshSpec, cap_mesh, rectangle_mesh
@@ -24,6 +25,22 @@ def test_pattern_matches_plain_coo_assembly(distorted):
     np.testing.assert_allclose(K.toarray(), K2.toarray(), atol=1e-12)
     dofs = cell_dofs(distorted.cells)
     assert K.nnz == len(np.unique(dofs[:, :, None] * distorted.n_dofs + dofs[:, None, :]))
+
+
+def test_tangent_data_assembles_the_element_tangents_of_any_material_tangent(distorted):
+    """tangent_data (element blocks left in (a, b, i, k) order, a permuted slot map) gives exactly the numbers of the
+    (a, i), (b, k) blocks, and both the plain COO assembly of sum_q dN_aJ A_iJkL dN_bL w. A is random, with none of
+    a material tangent's symmetries, so that a swapped index in the permutation shows."""
+    form = BulkForm(distorted, LAM, MU)
+    e, q, a, _ = form.dN.shape
+    A = np.random.default_rng(4).normal(size=(e, q, 2, 2, 2, 2))
+    data = form.tangent_data(A)
+    np.testing.assert_array_equal(data, form.pattern.values(form.element_tangents(A)))
+    K_e = np.einsum("eqaJ,eqiJkL,eqbL->eaibk", form.dNw, A, form.dN).reshape(e, 2 * a, 2 * a)
+    dofs = cell_dofs(distorted.cells)
+    rows, cols = np.broadcast_arrays(dofs[:, :, None], dofs[:, None, :])
+    K = sp.coo_matrix((K_e.ravel(), (rows.ravel(), cols.ravel())), shape=(distorted.n_dofs,) * 2).toarray()
+    np.testing.assert_allclose(form.pattern.matrix(data).toarray(), K, atol=1e-12 * np.abs(K).max())
 
 
 def test_tangent_against_finite_differences(distorted):

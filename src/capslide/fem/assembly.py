@@ -54,9 +54,10 @@ class SparsePattern:
     def nnz(self) -> int:
         return len(self.indices)
 
-    def values(self, blocks: np.ndarray) -> np.ndarray:
-        """CSR data from element blocks (n_blocks, m, m)."""
-        return np.bincount(self.slot, weights=blocks.ravel(), minlength=self.nnz)
+    def values(self, blocks: np.ndarray, slot: np.ndarray | None = None) -> np.ndarray:
+        """CSR data from element blocks (n_blocks, m, m); with ``slot``, from blocks whose entries come in another
+        order, ``slot`` mapping each to its CSR position (a permutation of :attr:`slot` within each block)."""
+        return np.bincount(self.slot if slot is None else slot, weights=blocks.ravel(), minlength=self.nnz)
 
     def matrix(self, data: np.ndarray) -> sp.csr_matrix:
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
@@ -123,6 +124,7 @@ class BulkForm:
         self._dN_cell = np.ascontiguousarray(self.dN.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
         self._dNw_cell = np.ascontiguousarray(self.dNw.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
         self._outer_cache = None
+        self._slot_abik_cache = None
         self._F_cache: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh, self.lam, self.mu = mesh, lam, mu
         self.dofs = cell_dofs(mesh.cells)
@@ -171,13 +173,38 @@ class BulkForm:
                 self._outer_cache = False
         return self._outer_cache if self._outer_cache is not False else None
 
+    def _tangents_abik(self, A: np.ndarray) -> np.ndarray | None:
+        """Element tangents with their entries in (a, b, i, k) order, (e, a*b, i*k): one batched matmul
+        (e, ab, qJL) @ (e, qJL, ik) with the static products; None when those are above the memory budget."""
+        outer = self._outer
+        if outer is None:
+            return None
+        e, q = A.shape[:2]
+        return outer @ A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * 4, 4)
+
+    @property
+    def _slot_abik(self) -> np.ndarray:
+        """The pattern's slot map for element tangents in (a, b, i, k) order (built once)."""
+        if self._slot_abik_cache is None:
+            e, a = self.mesh.cells.shape
+            self._slot_abik_cache = self.pattern.slot.reshape(e, a, 2, a, 2).transpose(0, 1, 3, 2, 4).ravel()
+        return self._slot_abik_cache
+
+    def tangent_data(self, A: np.ndarray) -> np.ndarray:
+        """CSR data of the tangent for the fixed pattern from the material tangent A (e, q, 2, 2, 2, 2); the same
+        numbers as ``pattern.values(element_tangents(A))`` (each CSR entry sums one term per element, in element order
+        either way), without reordering the element blocks in memory."""
+        K = self._tangents_abik(A)
+        if K is None:
+            return self.pattern.values(self.element_tangents(A))
+        return self.pattern.values(K, self._slot_abik)
+
     def element_tangents(self, A: np.ndarray) -> np.ndarray:
         """K_e[(a,i), (b,k)] = sum_q dN_aJ A_iJkL dN_bL w, (e, 2a, 2a)."""
         e, q, a, _ = self.dN.shape
-        outer = self._outer
-        if outer is not None:  # one batched matmul: (e, ab, qJL) @ (e, qJL, ik)
-            At = A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * 4, 4)
-            K = (outer @ At).reshape(e, a, a, 2, 2).transpose(0, 1, 3, 2, 4)
+        K = self._tangents_abik(A)
+        if K is not None:
+            K = K.reshape(e, a, a, 2, 2).transpose(0, 1, 3, 2, 4)
         else:  # two batched matmuls per quadrature point, no large static array
             At = A.transpose(0, 1, 3, 2, 4, 5).reshape(e, q, 2, 8)  # J, (i, k, L)
             S = (self.dNw @ At).reshape(e, q, a * 4, 2)  # (a, i, k), L
@@ -188,7 +215,7 @@ class BulkForm:
                                   ) -> tuple[np.ndarray, np.ndarray]:
         """(f_int, CSR data of the tangent) for the fixed pattern."""
         P, A = material.first_piola_and_tangent(self.deformation_gradient(u), self.lam, self.mu)
-        return self.internal_force(P), self.pattern.values(self.element_tangents(A))
+        return self.internal_force(P), self.tangent_data(A)
 
     def residual_and_tangent(self, u: np.ndarray, multiplier: np.ndarray | None = None
                              ) -> tuple[np.ndarray, sp.csr_matrix]:

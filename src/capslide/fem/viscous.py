@@ -61,7 +61,7 @@ class ViscousBranches:
     def residual_and_tangent_data(self, u: np.ndarray, state: Networks | None, dt: float):
         """(internal forces, CSR data of their exact algorithmic tangent) in the bulk's pattern."""
         P, A = ve.viscous_piola_and_tangent(self.bulk.deformation_gradient(u), *self._history(state, dt))
-        return self.bulk.internal_force(P), self.bulk.pattern.values(self.bulk.element_tangents(A))
+        return self.bulk.internal_force(P), self.bulk.tangent_data(A)
 
     def committed(self, u: np.ndarray, state: Networks | None, dt: float) -> Networks:
         """The state after the converged step that ends at u."""
