@@ -9,6 +9,7 @@ COO-to-CSR map. Total Lagrangian, plane strain, internal units.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -124,7 +125,6 @@ class BulkForm:
         self._dN_cell = np.ascontiguousarray(self.dN.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
         self._dNw_cell = np.ascontiguousarray(self.dNw.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
         self._outer_cache = None
-        self._slot_abik_cache = None
         self._F_cache: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh, self.lam, self.mu = mesh, lam, mu
         self.dofs = cell_dofs(mesh.cells)
@@ -182,13 +182,11 @@ class BulkForm:
         e, q = A.shape[:2]
         return outer @ A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * 4, 4)
 
-    @property
+    @cached_property
     def _slot_abik(self) -> np.ndarray:
-        """The pattern's slot map for element tangents in (a, b, i, k) order (built once)."""
-        if self._slot_abik_cache is None:
-            e, a = self.mesh.cells.shape
-            self._slot_abik_cache = self.pattern.slot.reshape(e, a, 2, a, 2).transpose(0, 1, 3, 2, 4).ravel()
-        return self._slot_abik_cache
+        """The pattern's slot map for element tangents in (a, b, i, k) order."""
+        e, a = self.mesh.cells.shape
+        return self.pattern.slot.reshape(e, a, 2, a, 2).transpose(0, 1, 3, 2, 4).ravel()
 
     def tangent_data(self, A: np.ndarray) -> np.ndarray:
         """CSR data of the tangent for the fixed pattern from the material tangent A (e, q, 2, 2, 2, 2); the same
