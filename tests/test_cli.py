@@ -73,7 +73,7 @@ BAD_INPUT = [
     (["--set", "loading.preload=20"], ["loading.preload", "20", "beyond pull-off"]),
     (["--set", "contact.repulsion_only=true", "--set", "loading.preload=0.1"], ["loading.preload", "repulsion_only"]),
     (["--set", "loading.normal_control=spring"], ["loading.spring_stiffness = None", "normal_control = spring"]),
-    (["--set", "solver.linear=cholmod"], ["solver.linear", "'cholmod'", "amg, lu_krylov, direct"]),
+    (["--set", "solver.linear=cholmod"], ["solver.linear", "'cholmod'", "auto, amg, lu_krylov, direct"]),
     (["--set", "output.snapshot_ubar=1.0"], ["output.snapshot_ubar", "array"]),
     (["--set", "preset=slow"], ["preset", "'slow'", "fast, paper, reference"]),
     (["--set", "presets.paper.mesh.size=2"], ["presets.paper.mesh", "dotted"]),

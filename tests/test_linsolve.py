@@ -6,14 +6,23 @@ import scipy.sparse as sp
 
 from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.fem.mesh import CapMeshSpec, cap_mesh
-from capslide.solvers.linsolve import AMGSolver, DirectSolver, LinearSolveError, LUKrylovSolver, make_solver
+from capslide.fem.quality import cell_dofs, poorly_shaped_cells
+from capslide.solvers.amg import PYAMG_DEFAULTS, SETTINGS
+from capslide.solvers.linsolve import AMGSolver, DirectSolver, LinearSolveError, LUKrylovSolver, choose_linear_solver, make_solver
 
 from fe_helpers import LAM, MU
+
+# the fixture's 3,726 DOF fit in one coarse level at SETTINGS' max_coarse: force a hierarchy
+MULTILEVEL = {**SETTINGS, "max_coarse": 50}
 
 
 @pytest.fixture(scope="module")
 def cap_system():
-    mesh = cap_mesh(CapMeshSpec(R=47.1, H=10.0, h0=0.1, band_half_width=8.0))
+    return _cap_system(0.1)
+
+
+def _cap_system(h0):
+    mesh = cap_mesh(CapMeshSpec(R=47.1, H=10.0, h0=h0, band_half_width=8.0))
     form = BulkForm(mesh, LAM, MU)
     r, data = form.residual_and_tangent_data(np.zeros(mesh.n_dofs))
     bc = Dirichlet.on_nodes(mesh.base, form.pattern)
@@ -55,8 +64,8 @@ def test_solvers_agree_with_direct(cap_system, kind, symmetric):
 
 def test_rigid_body_modes_help_amg(cap_system):
     mesh, A, b, _ = cap_system
-    with_rbm = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True)
-    plain = AMGSolver(near_null_space=None, symmetric=True)
+    with_rbm = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, options=MULTILEVEL)
+    plain = AMGSolver(near_null_space=None, symmetric=True, options=MULTILEVEL)
     it_rbm = with_rbm.solve(A, b)[1].iterations
     it_plain = plain.solve(A, b)[1].iterations
     assert it_rbm < it_plain
@@ -64,7 +73,7 @@ def test_rigid_body_modes_help_amg(cap_system):
 
 def test_amg_rebuild_rule(cap_system):
     mesh, A, b, bc = cap_system
-    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), rebuild_factor=1.5)
+    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), rebuild_factor=1.5, options=MULTILEVEL)
     _, info = solver.solve(A, b)
     assert info.rebuilt and solver.stats["setups"] == 1
     _, info = solver.solve(A, b)
@@ -82,17 +91,53 @@ def test_amg_rebuild_rule(cap_system):
 
 def test_amg_restarts_from_its_iterate_before_rebuilding(cap_system):
     mesh, A, b, bc = cap_system
-    needed = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True).solve(A, b)[1].iterations
+    needed = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, options=MULTILEVEL).solve(A, b)[1].iterations
     # too few iterations for one pass, enough for two: the restart finishes the solve on the same hierarchy
-    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=int(0.7 * needed))
+    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=int(0.7 * needed),
+                       options=MULTILEVEL)
     solver.solve(A, b)  # first call builds the hierarchy (and restarts)
     x, info = solver.solve(A, b)
     assert not info.rebuilt and solver.stats["setups"] == 1
     assert info.iterations > solver.maxiter and info.true_residual <= 10 * solver.rtol
     # far too few iterations: restart, rebuild, then a clear error
-    hopeless = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=2)
+    hopeless = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), symmetric=True, maxiter=2, options=MULTILEVEL)
     with pytest.raises(LinearSolveError, match="relative residual"):
         hopeless.solve(A, b)
+
+
+def _amg_iterations(mesh, A, b, exact: bool, options: dict) -> int:
+    dofs = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells)) if exact else None
+    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), exact_dofs=dofs, options=options, symmetric=True)
+    x, info = solver.solve(A, b)
+    assert info.true_residual <= 10 * solver.rtol
+    return info.iterations
+
+
+def test_amg_iterations_stay_nearly_flat_under_refinement_of_the_graded_cap():
+    """From 6.8k to 24k DOF (surface elements 0.05 to 0.0125 L0): CG iterations within 1.5x with SETTINGS and the
+    exact solve on the poorly shaped cells' DOFs; more than 2x with pyamg's defaults. Without the exact solve,
+    SETTINGS alone need over 1.5x the iterations at 24k DOF."""
+    coarse, fine = _cap_system(0.05), _cap_system(0.0125)
+    robust = [_amg_iterations(m, A, b, True, SETTINGS) for m, A, b, _ in (coarse, fine)]
+    plain = [_amg_iterations(m, A, b, False, PYAMG_DEFAULTS) for m, A, b, _ in (coarse, fine)]
+    assert robust[1] <= 1.5 * robust[0]
+    assert plain[1] > 2 * plain[0]
+    mesh, A, b, _ = fine
+    assert _amg_iterations(mesh, A, b, False, SETTINGS) > 1.5 * robust[1]
+
+
+@pytest.mark.parametrize("symmetric", [True, False])
+def test_amg_with_exact_block_agrees_with_direct(cap_system, symmetric):
+    mesh, A, b, _ = cap_system
+    if not symmetric:
+        A = _unsymmetric(A, mesh)
+    dofs = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells))
+    assert 0 < len(dofs) < 0.15 * mesh.n_dofs
+    solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), exact_dofs=dofs, options=MULTILEVEL, rtol=1e-10)
+    x, info = solver.solve(A, b)
+    x_ref, _ = DirectSolver().solve(A, b)
+    assert info.iterations > 1 and info.true_residual <= 1e-9
+    assert np.linalg.norm(x - x_ref) <= 1e-7 * np.linalg.norm(x_ref)
 
 
 def test_lu_krylov_reuses_factorization(cap_system):
@@ -141,3 +186,10 @@ def test_bordered_solve_matches_the_assembled_bordered_system(cap_system):
     assert np.linalg.norm(exact2 - exact) > 1e-4 * np.linalg.norm(exact)  # the nearby matrix is a different system
     two_solves = BorderedSolve(DirectSolver(), A2, c, d, e)(rhs)
     assert np.linalg.norm(two_solves - exact2) <= 1e-9 * np.linalg.norm(exact2)
+
+
+@pytest.mark.parametrize(("kind", "n_dofs", "mixed", "expected"), [
+    ("auto", 10, False, "lu_krylov"), ("auto", 11, False, "amg"), ("auto", 11, True, "lu_krylov"),
+    ("amg", 5, False, "amg"), ("direct", 11, False, "direct"), ("lu_krylov", 11, False, "lu_krylov")])
+def test_auto_takes_lu_up_to_the_dof_limit_and_amg_above_it(kind, n_dofs, mixed, expected):
+    assert choose_linear_solver(kind, n_dofs, mixed, amg_above_dofs=10) == expected

@@ -191,7 +191,8 @@ class Loading:
 
 @dataclass(frozen=True)
 class SolverSpec:
-    linear: str
+    linear: str  # auto, amg, lu_krylov or direct (see capslide.solvers.linsolve.choose_linear_solver)
+    amg_above_dofs: int
     newton_rtol: float
     newton_atol: float
     newton_max_iterations: int
@@ -285,7 +286,7 @@ class Parameters:
                 dwell=float(load["dwell"]),
             ),
             solver=SolverSpec(
-                linear=sol["linear"], newton_rtol=float(sol["newton_rtol"]),
+                linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),
                 newton_max_iterations=int(sol["newton_max_iterations"]),
                 krylov_rtol=float(sol["krylov_rtol"]),

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from ..fem.assembly import rigid_body_modes
 from ..fem.mesh import H0_AT_SIZE_1, CapMeshSpec, Mesh, cap_mesh
+from ..fem.quality import cell_dofs, poorly_shaped_cells
 from ..laws import analytic
 from ..params import Parameters
-from ..solvers.linsolve import make_solver
+from ..solvers.linsolve import choose_linear_solver, make_solver
 from .system import CapModel
 
 __all__ = ["cap_mesh_spec", "build_model"]
@@ -29,9 +30,13 @@ def cap_mesh_spec(params: Parameters) -> CapMeshSpec:
 
 def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None = None) -> CapModel:
     """The cap model of ``params`` on ``mesh`` (default: the graded cap mesh of :func:`cap_mesh_spec`), with the
-    linear solver ``solver`` (default: ``solver.linear``) given the rigid-body modes as near-null space."""
+    linear solver ``solver`` (default: ``solver.linear``; 'auto' resolved by :func:`choose_linear_solver`) given
+    the rigid-body modes as near-null space and, for AMG, the DOFs of the poorly shaped cells to solve exactly
+    around each V-cycle."""
     mesh = mesh or cap_mesh(cap_mesh_spec(params))
-    linear = make_solver(solver or params.solver.linear, rtol=params.solver.krylov_rtol,
-                         near_null_space=rigid_body_modes(mesh.nodes),
-                         diagonal_pivoting=params.mesh.formulation == "mixed")
+    mixed = params.mesh.formulation == "mixed"
+    kind = choose_linear_solver(solver or params.solver.linear, mesh.n_dofs, mixed, params.solver.amg_above_dofs)
+    exact = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells)) if kind == "amg" else None
+    linear = make_solver(kind, rtol=params.solver.krylov_rtol, near_null_space=rigid_body_modes(mesh.nodes),
+                         diagonal_pivoting=mixed, exact_dofs=exact)
     return CapModel(mesh, params, linear)

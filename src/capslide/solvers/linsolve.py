@@ -3,16 +3,13 @@
 ``solver.solve(A, B)`` solves A X = B for one or several right-hand sides
 (columns of B) with the same matrix, returning X and a :class:`SolveInfo`.
 Three kinds: ``amg`` (pyamg smoothed aggregation preconditioning CG or
-BiCGStab), ``lu_krylov`` (a stored SuperLU factorization of an earlier matrix
-preconditioning GMRES, refactorized when iterations grow) and ``direct``
-(a fresh SuperLU factorization per matrix, the reference and fallback).
-The AMG solver keeps its smoothed-aggregation hierarchy (built with the
-rigid-body modes as near-null space) across calls and rebuilds it when the
-Krylov iteration count has grown past ``rebuild_factor`` times the count
-right after the last rebuild, when a solve fails even after one restart from
-its iterate, or when asked to. The true relative residual ||b - A x|| / ||b||
-is computed after every solve; a solve whose Krylov method reports convergence
-but whose true residual is above 10 rtol counts as failed.
+BiCGStab, :mod:`capslide.solvers.amg`), ``lu_krylov`` (a stored SuperLU
+factorization of an earlier matrix preconditioning GMRES, refactorized when
+iterations grow) and ``direct`` (a fresh SuperLU factorization per matrix, the
+reference and fallback); :func:`choose_linear_solver` resolves ``auto``.
+The true relative residual ||b - A x|| / ||b|| is computed after every solve;
+a solve whose Krylov method reports convergence but whose true residual is
+above 10 rtol counts as failed.
 """
 
 from __future__ import annotations
@@ -22,124 +19,15 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import pyamg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["SolveInfo", "LinearSolveError", "AMGSolver", "DirectSolver", "LUKrylovSolver", "make_solver", "SOLVERS"]
+from .amg import AMGSolver
+from .solve_info import LinearSolveError, SolveInfo
+from .solve_info import true_residual as _true_residual
 
-
-class LinearSolveError(RuntimeError):
-    """A linear solve did not reach its tolerance (message says by how much)."""
-
-
-@dataclass
-class SolveInfo:
-    iterations: int = 0  # Krylov iterations over all right-hand sides (0 for direct)
-    true_residual: float = 0.0  # max over right-hand sides of ||b - A x|| / ||b||
-    rebuilt: bool = False  # hierarchy / factorization built in this call
-    setup_time: float = 0.0
-    solve_time: float = 0.0
-
-
-def _true_residual(A, X, B) -> float:
-    R = B - A @ X
-    nb = np.linalg.norm(B, axis=0)
-    nr = np.linalg.norm(R, axis=0)
-    return float(np.max(np.where(nb > 0, nr / np.where(nb > 0, nb, 1.0), nr)))
-
-
-@dataclass
-class AMGSolver:
-    """pyamg smoothed aggregation as preconditioner of CG (symmetric) or BiCGStab (unsymmetric; GMRES fallback).
-
-    ``near_null_space`` (n, k): the rigid-body modes for elasticity (None:
-    pyamg's constant default). ``symmetric=None`` decides per matrix.
-    """
-
-    near_null_space: np.ndarray | None = None
-    rtol: float = 1e-8
-    maxiter: int = 500
-    rebuild_factor: float = 2.0
-    symmetric: bool | None = None
-    block_size: int = 2
-    _ml: object = field(default=None, init=False, repr=False)
-    _base_iterations: float | None = field(default=None, init=False, repr=False)
-    stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
-
-    def invalidate(self) -> None:
-        """Force a rebuild at the next solve (for example after a mesh change)."""
-        self._ml = None
-
-    def setup(self, A) -> float:
-        t = time.perf_counter()
-        Ab = A.tobsr(blocksize=(self.block_size, self.block_size)) if self.block_size > 1 else A
-        kwargs = {"B": self.near_null_space} if self.near_null_space is not None else {}
-        self._ml = pyamg.smoothed_aggregation_solver(Ab, max_coarse=500, **kwargs)
-        self._base_iterations = None
-        self.stats["setups"] += 1
-        return time.perf_counter() - t
-
-    def _is_symmetric(self, A) -> bool:
-        if self.symmetric is not None:
-            return self.symmetric
-        d = A - A.T
-        return d.nnz == 0 or abs(d).max() <= 1e-12 * abs(A).max()
-
-    def _krylov(self, A, b, M, symmetric, x0):
-        count = [0]
-
-        def cb(_):
-            count[0] += 1
-
-        if symmetric:
-            x, info = spla.cg(A, b, x0=x0, rtol=self.rtol, maxiter=self.maxiter, M=M, callback=cb)
-            return x, info, count[0]
-        # unsymmetric (sliding friction): BiCGStab; restarted GMRES(50) was seen to stagnate here
-        x, info = spla.bicgstab(A, b, x0=x0, rtol=self.rtol, maxiter=self.maxiter, M=M, callback=cb)
-        if info != 0:
-            x, info = spla.gmres(A, b, x0=x, rtol=self.rtol, restart=200, maxiter=max(1, self.maxiter // 200), M=M,
-                                 callback=cb, callback_type="pr_norm")
-        return x, info, count[0]
-
-    def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = False) -> tuple[np.ndarray, SolveInfo]:
-        B2 = B.reshape(len(B), -1)
-        info = SolveInfo()
-        if rebuild or self._ml is None:
-            info.setup_time, info.rebuilt = self.setup(A), True
-        symmetric = self._is_symmetric(A)
-        X = np.zeros_like(B2)
-        # attempt 0 starts from zero; attempt 1 restarts the Krylov method from the
-        # current iterate (BiCGStab's recursive residual can drift from the true
-        # one); attempt 2 also rebuilds the hierarchy, unless it is fresh already
-        for attempt in range(3):
-            if attempt == 2 and not info.rebuilt:
-                info.setup_time += self.setup(A)
-                info.rebuilt = True
-            M = self._ml.aspreconditioner(cycle="V")
-            t = time.perf_counter()
-            iters, failed = 0, False
-            for j in range(B2.shape[1]):
-                X[:, j], code, n = self._krylov(A, B2[:, j], M, symmetric, X[:, j].copy())
-                iters += n
-                failed |= code != 0
-            info.solve_time += time.perf_counter() - t
-            info.iterations += iters
-            info.true_residual = _true_residual(A, X, B2)
-            if attempt == 0:
-                per_rhs = iters / B2.shape[1]
-            if not failed and info.true_residual <= 10 * self.rtol:
-                break
-        else:
-            raise LinearSolveError(f"AMG-Krylov stopped at relative residual {info.true_residual:.2e} "
-                                   f"after {info.iterations} iterations")
-        self.stats["solves"] += 1
-        self.stats["iterations"] += info.iterations
-        if self._base_iterations is None:
-            self._base_iterations = max(per_rhs, 1.0)
-        elif per_rhs > self.rebuild_factor * self._base_iterations:
-            self._ml = None  # rebuild rule: iterations grew; rebuild at the next solve
-        return X.reshape(B.shape), info
+__all__ = ["SolveInfo", "LinearSolveError", "AMGSolver", "DirectSolver", "LUKrylovSolver", "make_solver",
+           "choose_linear_solver", "SOLVERS"]
 
 
 def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
@@ -326,14 +214,31 @@ class LUKrylovSolver:
 SOLVERS = ("amg", "lu_krylov", "direct")
 
 
+def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: int) -> str:
+    """The solver ``kind`` names; 'auto' is 'lu_krylov' up to ``amg_above_dofs`` DOF and for the mixed
+    formulation (whose penalty bulk AMG was not made robust for), 'amg' above.
+
+    On the graded cap meshes, 12k to 2.1M DOF, a SuperLU factorization plus
+    solve takes 5 to 13 times less time than one AMG setup plus solve, and the
+    factors are reused over many Newton iterations; AMG's memory is 0.77-0.81x
+    of the factors' (docs/performance.md, issue 19). The default limit is the
+    largest size measured; it is counted in DOF so that every machine chooses
+    the same.
+    """
+    if kind != "auto":
+        return kind
+    return "amg" if n_dofs > amg_above_dofs and not mixed else "lu_krylov"
+
+
 def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | None = None,
-                diagonal_pivoting: bool = False):
-    """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes), 'lu_krylov' or 'direct'
-    (``diagonal_pivoting``: see :func:`_factor`)."""
+                diagonal_pivoting: bool = False, exact_dofs: np.ndarray | None = None):
+    """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes, and ``exact_dofs``, e.g. those
+    of the poorly shaped cells), 'lu_krylov' or 'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
     if kind == "amg":
-        return AMGSolver(near_null_space=near_null_space, rtol=rtol)
+        return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol)
     if kind == "lu_krylov":
         return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting)
     if kind == "direct":
         return DirectSolver(diagonal_pivoting=diagonal_pivoting)
-    raise ValueError(f"unknown linear solver {kind!r} (allowed: {', '.join(SOLVERS)})")
+    raise ValueError(f"unknown linear solver {kind!r} (allowed: {', '.join(SOLVERS)}; 'auto' goes through "
+                     "choose_linear_solver)")
