@@ -14,7 +14,7 @@ memory of the hierarchy (matrix, prolongation and restriction entries of all
 levels, plus the exact block's LU factors), and SuperLU's factor + solve time and memory (entries of L + U) for
 comparison. Entries count 12 bytes (value and column index).
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/amg_scaling.py [--q1-sizes 8 4 1 0.25 0.087] [--q2-sizes 16 8 4 2]
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/amg_scaling.py [--q1-sizes 8 4 1 0.25] [--q2-sizes 16 8 4 2]
         [--configs 0 1 2] [--repeats 1]
 """
 
@@ -79,7 +79,7 @@ def superlu_row(A, b, repeats):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--q1-sizes", type=float, nargs="*", default=[8, 4, 1, 0.25, 0.087])
+    p.add_argument("--q1-sizes", type=float, nargs="*", default=[8, 4, 1, 0.25])
     p.add_argument("--q2-sizes", type=float, nargs="*", default=[16, 8, 4, 2])
     p.add_argument("--repeats", type=int, default=1)
     p.add_argument("--configs", type=int, nargs="*", default=[0, 1, 2],

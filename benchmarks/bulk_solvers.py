@@ -4,9 +4,10 @@ Prints a Markdown table over mesh sizes (median of repeats, seconds):
 residual + tangent refill with the reused pattern; AMG (as ``solver.linear:
 amg`` builds it: capslide's smoothed aggregation with the rigid-body modes and,
 since issue 19, the exact solve on the poorly shaped cells) setup, fresh solve
-and solve with the hierarchy reused for the tangent of a deformed state, with iteration counts; the same
-with pyamg's default (constant) near-null space at the smallest size; a
-stored LU factorization preconditioning GMRES; and SuperLU factor + solve.
+and solve with the hierarchy reused for the tangent of a deformed state, with
+iteration counts; the same with pyamg's default (constant) near-null space at
+the smallest size; a stored LU factorization preconditioning GMRES; and
+SuperLU factor + solve.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bulk_solvers.py [--sizes 8 4 2 1 0.5 0.25 0.15] [--repeats 3]
 """
