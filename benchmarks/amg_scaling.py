@@ -3,10 +3,10 @@
 For each element and mesh.size, one symmetric bulk solve (plane-strain
 neo-Hooke tangent at rest, base clamped, vertical surface loads; the system of
 benchmarks/bulk_solvers.py) with CG to 1e-8 preconditioned by:
-- pyamg's defaults (smoothed aggregation, coarsest level at most 500 rows:
+- pyamg's defaults (smoothed aggregation, coarsest level at most 500 block rows:
   capslide before issue 19);
 - capslide's SETTINGS (evolution strength, energy-minimizing prolongation,
-  coarsest level up to 2000 rows solved by SuperLU);
+  coarsest level up to 2000 block rows solved by SuperLU);
 - SETTINGS plus the exact solve on the DOFs of the poorly shaped cells
   around each V-cycle (what ``solver.linear: amg`` runs).
 Printed: CG iterations, setup and solve seconds (median of repeats), the

@@ -35,7 +35,8 @@ __all__ = ["AMGSolver", "SETTINGS", "PYAMG_DEFAULTS"]
 
 # measured on the graded cap meshes, Q1 and Q2, 12k to 2.1M DOF (benchmarks/amg_scaling.py)
 SETTINGS = {"strength": ("evolution", {"k": 4}), "smooth": "energy", "max_coarse": 2000, "coarse_solver": "splu"}
-# capslide's options before issue 19: pyamg's defaults with a coarsest level of at most 500 rows
+# capslide's options before issue 19: pyamg's defaults with a coarsest level of at most 500 block rows
+# (max_coarse counts nodes on the finest level, aggregates below)
 PYAMG_DEFAULTS = {"max_coarse": 500}
 
 
