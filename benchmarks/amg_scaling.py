@@ -29,7 +29,7 @@ import scipy.sparse.linalg as spla
 
 from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.fem.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh
-from capslide.fem.quality import cell_dofs, poorly_shaped_cells
+from capslide.fem.quality import poorly_shaped_dofs
 from capslide.params import lame_plane_strain
 from capslide.solvers.amg import PYAMG_DEFAULTS, SETTINGS, AMGSolver
 
@@ -54,7 +54,7 @@ def hierarchy_mib(ml) -> float:
 
 
 def amg_row(mesh, A, b, options, exact, repeats):
-    dofs = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells)) if exact else None
+    dofs = poorly_shaped_dofs(mesh.nodes, mesh.cells) if exact else None
     setups, solves, its = [], [], 0
     for _ in range(repeats):
         solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), exact_dofs=dofs, options=options,

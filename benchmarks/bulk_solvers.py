@@ -22,7 +22,7 @@ import numpy as np
 
 from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.fem.mesh import H0_AT_SIZE_1, CapMeshSpec, cap_mesh
-from capslide.fem.quality import cell_dofs, poorly_shaped_cells
+from capslide.fem.quality import poorly_shaped_dofs
 from capslide.params import lame_plane_strain
 from capslide.solvers.linsolve import AMGSolver, DirectSolver, LUKrylovSolver
 
@@ -66,7 +66,7 @@ def run(sizes, repeats, const_nullspace_sizes):
         A0, A1 = matrix(form, bc, np.zeros(mesh.n_dofs)), matrix(form, bc, u1)
         B = rigid_body_modes(mesh.nodes)
 
-        exact = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells))  # as build_model passes them
+        exact = poorly_shaped_dofs(mesh.nodes, mesh.cells)  # as build_model passes them
         amg = AMGSolver(near_null_space=B, exact_dofs=exact, symmetric=True, rtol=1e-8)
         t_setup, _ = median_time(lambda: amg.setup(A0), repeats)
         t_fresh, (x, info_fresh) = median_time(lambda: amg.solve(A0, b), repeats)

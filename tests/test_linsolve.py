@@ -6,7 +6,7 @@ import scipy.sparse as sp
 
 from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.fem.mesh import CapMeshSpec, cap_mesh
-from capslide.fem.quality import cell_dofs, poorly_shaped_cells
+from capslide.fem.quality import poorly_shaped_dofs
 from capslide.solvers.amg import PYAMG_DEFAULTS, SETTINGS
 from capslide.solvers.linsolve import AMGSolver, DirectSolver, LinearSolveError, LUKrylovSolver, choose_linear_solver, make_solver
 
@@ -106,7 +106,7 @@ def test_amg_restarts_from_its_iterate_before_rebuilding(cap_system):
 
 
 def _amg_iterations(mesh, A, b, exact: bool, options: dict) -> int:
-    dofs = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells)) if exact else None
+    dofs = poorly_shaped_dofs(mesh.nodes, mesh.cells) if exact else None
     solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), exact_dofs=dofs, options=options, symmetric=True)
     x, info = solver.solve(A, b)
     assert info.true_residual <= 10 * solver.rtol
@@ -131,7 +131,7 @@ def test_amg_with_exact_block_agrees_with_direct(cap_system, symmetric):
     mesh, A, b, _ = cap_system
     if not symmetric:
         A = _unsymmetric(A, mesh)
-    dofs = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells))
+    dofs = poorly_shaped_dofs(mesh.nodes, mesh.cells)
     assert 0 < len(dofs) < 0.15 * mesh.n_dofs
     solver = AMGSolver(near_null_space=rigid_body_modes(mesh.nodes), exact_dofs=dofs, options=MULTILEVEL, rtol=1e-10)
     x, info = solver.solve(A, b)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from capslide.fem.mesh import CapMeshSpec, cap_mesh, rectangle_mesh
-from capslide.fem.quality import aspect_ratio, cell_dofs, largest_interior_angle, poorly_shaped_cells
+from capslide.fem.quality import aspect_ratio, dofs_of_cells, largest_interior_angle, poorly_shaped_cells
 
 
 @pytest.mark.parametrize("element", ["Q1", "Q2"])
@@ -16,7 +16,7 @@ def test_rectangle_cells_have_right_angles_and_their_side_ratio(element):
     assert not poorly_shaped_cells(mesh.nodes, mesh.cells, max_aspect=8.1).any()
 
 
-def test_angles_of_a_kite_and_of_a_degenerate_quadrilateral():
+def test_angles_of_a_rhombus_and_of_a_degenerate_quadrilateral():
     nodes = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0],  # three corners on a line: 180 degrees
                       [0.0, 0.0], [1.0, -0.5], [2.0, 0.0], [1.0, 0.5]])  # a rhombus: 2 atan(2) = 126.87 degrees
     cells = np.array([[0, 1, 2, 3], [4, 5, 6, 7]])
@@ -24,9 +24,9 @@ def test_angles_of_a_kite_and_of_a_degenerate_quadrilateral():
     np.testing.assert_allclose(aspect_ratio(nodes, cells), [np.sqrt(2.0), 1.0])
 
 
-def test_cell_dofs_are_both_components_of_every_node_of_the_cells():
+def test_dofs_of_cells_are_both_components_of_every_node_of_the_cells():
     cells = np.array([[0, 1, 4, 3], [1, 2, 5, 4]])
-    np.testing.assert_array_equal(cell_dofs(cells, np.array([False, True])), [2, 3, 4, 5, 8, 9, 10, 11])
+    np.testing.assert_array_equal(dofs_of_cells(cells, np.array([False, True])), [2, 3, 4, 5, 8, 9, 10, 11])
 
 
 def test_cap_mesh_poor_cells_are_at_the_logical_corners_and_outside_the_band():

@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["largest_interior_angle", "aspect_ratio", "poorly_shaped_cells", "cell_dofs"]
+from .assembly import cell_dofs
+
+__all__ = ["largest_interior_angle", "aspect_ratio", "poorly_shaped_cells", "dofs_of_cells",
+           "poorly_shaped_dofs"]
 
 
 def _corner_edges(nodes: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -44,7 +47,12 @@ def poorly_shaped_cells(nodes: np.ndarray, cells: np.ndarray, max_angle: float =
     return (largest_interior_angle(nodes, cells) > max_angle) | (aspect_ratio(nodes, cells) > max_aspect)
 
 
-def cell_dofs(cells: np.ndarray, mask: np.ndarray) -> np.ndarray:
+def dofs_of_cells(cells: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Sorted displacement DOFs (node-major: 2 node, 2 node + 1) of all nodes of the cells in ``mask``."""
-    nodes = np.unique(cells[mask])
-    return np.column_stack([2 * nodes, 2 * nodes + 1]).ravel()
+    return np.unique(cell_dofs(cells[mask]))
+
+
+def poorly_shaped_dofs(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The DOFs of the poorly shaped cells at the default thresholds: what ``solver.linear: amg`` solves exactly
+    around each V-cycle."""
+    return dofs_of_cells(cells, poorly_shaped_cells(nodes, cells))

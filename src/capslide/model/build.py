@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..fem.assembly import rigid_body_modes
 from ..fem.mesh import H0_AT_SIZE_1, CapMeshSpec, Mesh, cap_mesh
-from ..fem.quality import cell_dofs, poorly_shaped_cells
+from ..fem.quality import poorly_shaped_dofs
 from ..laws import analytic
 from ..params import Parameters
 from ..solvers.linsolve import choose_linear_solver, make_solver
@@ -36,7 +36,7 @@ def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None
     mesh = mesh or cap_mesh(cap_mesh_spec(params))
     mixed = params.mesh.formulation == "mixed"
     kind = choose_linear_solver(solver or params.solver.linear, mesh.n_dofs, mixed, params.solver.amg_above_dofs)
-    exact = cell_dofs(mesh.cells, poorly_shaped_cells(mesh.nodes, mesh.cells)) if kind == "amg" else None
+    exact = poorly_shaped_dofs(mesh.nodes, mesh.cells) if kind == "amg" else None
     linear = make_solver(kind, rtol=params.solver.krylov_rtol, near_null_space=rigid_body_modes(mesh.nodes),
                          diagonal_pivoting=mixed, exact_dofs=exact)
     return CapModel(mesh, params, linear)
