@@ -249,3 +249,35 @@ def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp
     saved = load_checkpoint(tmp_path / "ckpt", text)
     assert saved.state.history.slip is not None and saved.state.history.slip.max() > 0.0
     assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))
+
+
+class OnsetCeilings:
+    """Records, after every converged step, the path's onset ceiling and whether the stick zone is still open."""
+
+    def __init__(self):
+        self.seen = []
+
+    def step(self, step):
+        self.seen.append((step.state.onset_ceiling, step.record.area_stick > 0.0))
+
+    def notice(self, notice):
+        pass
+
+    def end(self, end):
+        return end
+
+
+def test_a_checkpoint_within_the_onset_search_resumes_it(setup, tmp_path):
+    """A checkpoint saved after a step cut back for closing the stick zone (the onset ceiling set, the stick zone
+    still open) carries the ceiling: the resumed search takes the uninterrupted run's steps, bit for bit."""
+    params, text = setup
+    watch = OnsetCeilings()
+    run_saving(params, tmp_path / "watch", 10_000, observers=[watch])
+    n = next(i + 1 for i, (ceiling, sticking) in enumerate(watch.seen) if np.isfinite(ceiling) and sticking)
+    reference = run_saving(params, tmp_path / "ref", n)  # the same renewal schedule
+    path = tmp_path / "ckpt"
+    with pytest.raises(Killed):
+        run_saving(params, path, n, observers=[kill_after_steps(n + 1)])
+    saved = load_checkpoint(path, text)
+    assert len(saved.records) == n and np.isfinite(saved.state.onset_ceiling)
+    assert_same_history(reference, run_saving(params, path, n, resume=saved))

@@ -153,6 +153,26 @@ def test_onset_is_located_to_its_bracket(di_case):
     assert 0.0 < bracket <= max(1e-3 * slide[first].ubar, 2.0 * p.loading.min_slide_step)
 
 
+def test_onset_search_bisects_below_the_ceiling():
+    """Once a step to the ceiling was cut back for closing the stick zone, the next step is half of what is left,
+    then one bracket (the longest closing step accepted) once two brackets or less are left, then the rest; in
+    either slide direction. With the stick zone closed, or without a ceiling, the ceiling plays no part."""
+    from capslide.loadpath.slide_rules import Mark, onset_step_limit
+
+    def marks(sign, area_stick=0.5):
+        return [Mark(Phase.SLIDE, sign * 1.8, 0.0, 1.0), Mark(Phase.SLIDE, sign * 2.0, 0.0, area_stick)]
+
+    for sign in (1.0, -1.0):
+        limit = lambda ubar, ceiling, stick=0.5: onset_step_limit(  # noqa: E731
+            marks(sign, stick), sign * ubar, sign * ceiling, 0.002, sign)
+        assert limit(2.0, 2.1) == pytest.approx(0.05)
+        assert limit(2.0, 2.003) == pytest.approx(0.002)
+        assert limit(2.0, 2.0015) == pytest.approx(0.0015)
+        assert limit(2.0, 1.9) == pytest.approx(0.1)  # a ceiling behind: the stick area's extrapolation to 2.2, halved
+        assert limit(2.0, 2.1, stick=0.0) == np.inf
+        assert onset_step_limit(marks(sign), sign * 2.0, np.nan, 0.002, sign) == pytest.approx(0.1)
+
+
 def test_snapshot_landings_do_not_shorten_the_steps_after_them(paper_config, di_case):
     """Landing on a snapshot shortens that one step, not the ones after it: four snapshots up to ubar = 2, before
     the onset, add four slide steps there (measured 23 -> 27; the step rule before issue 19 went from 26 to 41) and

@@ -174,7 +174,8 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft] for m in s.marks], "cutbacks": s.cutbacks,
-              "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time}
+              "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
+              "onset_ceiling": s.onset_ceiling}
     return arrays, header
 
 
@@ -188,7 +189,7 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
                       meta.get("time", 0.0))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
-                     meta.get("stage_h"))
+                     meta.get("stage_h"), meta.get("onset_ceiling", float("nan")))
 
 
 class CheckpointWriter:

@@ -40,7 +40,7 @@ from ..model.system import CapModel, History
 from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
-from .slide_rules import Mark, either, onset_check, onset_step_limit, snap_check
+from .slide_rules import Mark, either, onset_bracket, onset_check, onset_step_limit, snap_check
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
@@ -62,6 +62,7 @@ class PathState:
     cutbacks: int = 0  # over the finished legs
     smallest: float = math.inf  # smallest step over the finished legs
     stage_h: float | None = None  # substrate height at the start of the slide (L0): the stage of normal control
+    onset_ceiling: float = math.nan  # ubar of the last slide step cut back for closing the stick zone (onset_check)
 
     def totals(self) -> tuple[int, float]:
         """Cut-backs and smallest step so far, the running leg included."""
@@ -287,15 +288,22 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     control = _slide_control(model)
     if state.loop is None:
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
+        state.onset_ceiling = math.nan
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     forward = name == "slide"
     rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None)
+    direction = 1.0 if end >= start else -1.0
+
+    def step_limit(ubar: float) -> float:  # the closing step a hair inside the bracket: ubar + step rounds
+        bracket = (1.0 - 1e-9) * onset_bracket(ubar, control.minimum)
+        return onset_step_limit(state.marks, ubar, state.onset_ceiling if forward else math.nan, bracket, direction)
+
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
-                             ends=detached, step_limit=lambda ubar: onset_step_limit(state.marks, ubar),
-                             rejects=rejects, seconds_per_unit=seconds_per_unit(model)))
+                             ends=detached, step_limit=step_limit, rejects=rejects,
+                             seconds_per_unit=seconds_per_unit(model)))
     return (yield from _run(model, state, steps, after))
 
 

@@ -1,7 +1,8 @@
 """Rules of the slide leg on the path's last converged steps (its marks): how long the next step may be while the
 stick zone closes, and which converged steps are cut back (the onset of full sliding overstepped; |Ft| falling too
-fast with slip weakening). They read the path state's marks and a step's record, nothing else; the slide leg in
-:mod:`.cap` applies them.
+fast with slip weakening). They read the path state's marks and a step's record, nothing else, and the onset check
+leaves the ubar of a step it cut back in the path state (its ``onset_ceiling``); the slide leg in :mod:`.cap`
+applies them.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from dataclasses import dataclass
 from ..states import Phase
 from .measures import fully_sliding
 
-__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "ONSET_BRACKET", "onset_check", "either"]
+__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "ONSET_BRACKET", "onset_bracket", "onset_check",
+           "either"]
 
 
 @dataclass(frozen=True)
@@ -26,13 +28,21 @@ class Mark:
     Ft: float = math.nan
 
 
-def onset_step_limit(marks: list[Mark], ubar: float, tolerance: float = 0.005) -> float:
+def onset_step_limit(marks: list[Mark], ubar: float, ceiling: float = math.nan, bracket: float = 0.0,
+                     direction: float = 1.0, tolerance: float = 0.005) -> float:
     """Largest next slide step while the stick zone closes: the onset of full sliding is then found to about
     ``tolerance`` |ubar|, whatever the step size elsewhere.
 
-    The onset is predicted by extrapolating the stick area of the last two slide steps linearly to zero; the step
-    is at most half the predicted remaining distance, and at least ``tolerance`` |ubar|.
+    Before any step overshot the onset, the onset is predicted by extrapolating the stick area of the last two
+    slide steps linearly to zero; the step is at most half the predicted remaining distance, and at least
+    ``tolerance`` |ubar|. Once a step to ``ceiling`` was cut back for closing the stick zone (:func:`onset_check`),
+    the onset lies before it, and the steps bisect what is left: half of it, and a step of ``bracket`` (the longest
+    closing step :func:`onset_check` accepts) once at most two brackets are left, which either closes the stick zone
+    or leaves at most one bracket to the ceiling. ``direction``: the sign of the slide's steps.
     """
+    left = (ceiling - ubar) * direction  # NaN (no ceiling) compares false
+    if marks and marks[-1].phase == Phase.SLIDE and marks[-1].area_stick > 0.0 and left > 0.0:
+        return min(left, bracket) if left <= 2.0 * bracket else 0.5 * left
     last = [m for m in marks[-2:] if m.phase == Phase.SLIDE]
     if len(last) < 2 or last[-1].area_stick <= 0.0:
         return math.inf
@@ -64,17 +74,25 @@ def snap_check(state, drop: float = SNAP_DROP):
 ONSET_BRACKET = 1e-3  # the onset of full sliding is located to this fraction of ubar (onset_check)
 
 
+def onset_bracket(ubar: float, smallest: float, tolerance: float = ONSET_BRACKET) -> float:
+    """The longest slide step to ubar (from below) that may close the stick zone: ``tolerance`` |ubar|, and at least
+    2 ``smallest`` so that a cut-back stays above the smallest step."""
+    return max(tolerance * abs(ubar), 2.0 * smallest)
+
+
 def onset_check(state, smallest: float, tolerance: float = ONSET_BRACKET):
     """A slide step that ends the stick zone (its record fully sliding, the last step's stick area > 0) is cut back
-    while it is longer than ``tolerance`` |ubar| (and than 2 ``smallest``, so that the cut-back stays above the
-    smallest step): the onset of full sliding, the first fully sliding step, is then located to that bracket."""
+    while it is longer than :func:`onset_bracket`: the onset of full sliding, the first fully sliding step, is then
+    located to that bracket. The cut-back step's ubar becomes ``state.onset_ceiling``, below which the onset lies
+    (:func:`onset_step_limit` bisects up to it)."""
     def rejects(rec) -> str | None:
         last = state.marks[-1] if state.marks else None
         if last is None or last.phase != rec.phase or not last.area_stick > 0.0 or not fully_sliding(rec):
             return None
         length = abs(rec.ubar - last.ubar)
-        if length <= max(tolerance * abs(rec.ubar), 2.0 * smallest):
+        if length <= onset_bracket(rec.ubar, smallest, tolerance):
             return None
+        state.onset_ceiling = rec.ubar
         return f"the stick zone closed within a step of {length:.3g}"
     return rejects
 
