@@ -113,7 +113,7 @@ def onset_bracket(path: Path) -> tuple[float, float]:
 
 def cmd_onset(args) -> None:
     names = common_files(args.before, args.after)
-    print("| case | before: bracket (L0) | width (%) | after: bracket (L0) | width (%) | after's onset in before's bracket |")
+    print("| case | before: bracket (L0) | width (%) | after: bracket (L0) | width (%) | brackets overlap |")
     print("|---|---|---|---|---|---|")
     for name in names:
         (a0, a1), (b0, b1) = onset_bracket(args.before / name), onset_bracket(args.after / name)
