@@ -10,7 +10,7 @@ import xarray as xr
 
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
-from capslide.driver.observers import AfterSteps
+from capslide.driver.observers import AfterSteps, Observer
 from capslide.io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWriter, config_text, load_checkpoint
 from capslide.params import Parameters
 from capslide.states import Phase
@@ -251,7 +251,7 @@ def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp
     assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))
 
 
-class OnsetCeilings:
+class OnsetCeilings(Observer):
     """Records, after every converged step, the path's onset ceiling and whether the stick zone is still open."""
 
     def __init__(self):
@@ -259,12 +259,6 @@ class OnsetCeilings:
 
     def step(self, step):
         self.seen.append((step.state.onset_ceiling, step.record.area_stick > 0.0))
-
-    def notice(self, notice):
-        pass
-
-    def end(self, end):
-        return end
 
 
 def test_a_checkpoint_within_the_onset_search_resumes_it(setup, tmp_path):
