@@ -261,10 +261,11 @@ class OnsetCeilings(Observer):
         self.seen.append((step.state.onset_ceiling, step.record.area_stick > 0.0))
 
 
-def test_a_checkpoint_within_the_onset_search_resumes_it(setup, tmp_path):
+def test_a_checkpoint_within_the_onset_search_resumes_it(paper_config, tmp_path):
     """A checkpoint saved after a step cut back for closing the stick zone (the onset ceiling set, the stick zone
     still open) carries the ceiling: the resumed search takes the uninterrupted run's steps, bit for bit."""
-    params, text = setup
+    config = validate(apply_overrides(paper_config, [*COARSE, "loading.slide_back=false"]))
+    params, text = Parameters.from_config(config), config_text(config)
     watch = OnsetCeilings()
     run_saving(params, tmp_path / "watch", 10_000, observers=[watch])
     n = next(i + 1 for i, (ceiling, sticking) in enumerate(watch.seen) if np.isfinite(ceiling) and sticking)
