@@ -32,7 +32,7 @@ convergence: setup
 test: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/snakefmt --check Snakefile workflow/rules
-	$(BIN)/python -m pytest -m "not slow"
+	$(BIN)/python -m pytest -m "not slow" -n $(CORES)
 
 test-all: setup
 	$(BIN)/ruff check src tests benchmarks
