@@ -9,7 +9,7 @@ from capslide.config import apply_overrides, apply_settings, validate
 from capslide.driver.case import run_case
 from capslide.io.checkpoint import CheckpointWriter, SavedCase, config_text
 from capslide.io.normal_state import NormalStateError, normal_config, read_normal_state, write_normal_state
-from capslide.loadpath.cap import retraction_from
+from capslide.loadpath.cap import continued_from
 from capslide.params import Parameters
 from capslide.states import Phase, Status
 from capslide.studies.expansion import shares_normal_state
@@ -88,7 +88,7 @@ def test_a_tensile_preload_goes_on_from_the_state_it_is_retracted_from(base, tmp
     tensile = params_of(base, loading__preload=0.144)
     saved = read_normal_state(tmp_path / "Fn-0.288.npz", apply_settings(tensile.config, {"loading.preload": -0.288}))
     approached = [r.Fn for r in saved.records if r.phase == Phase.APPROACH][-1]
-    start = retraction_from(tensile.loading, saved.state, approached)
+    start = continued_from(tensile.loading, saved.state, -0.288, approached)
     assert start is not None and start.targets == [0.144]
     normal_state(tensile, tmp_path / "Fn+0.144.npz", tmp_path, SavedCase(start, saved.records, [], saved.elapsed))
     shared = run_checkpointed(tensile, tmp_path / "shared", resume=read_normal_state(tmp_path / "Fn+0.144.npz",
@@ -97,7 +97,33 @@ def test_a_tensile_preload_goes_on_from_the_state_it_is_retracted_from(base, tmp
     assert min(r.Fn for r in alone.records) == pytest.approx(-0.288)  # the case alone went through -0.288
     assert_same_case(alone, shared)
     # a compressive preload is not on the retraction path
-    assert retraction_from(compressed.loading, saved.state, approached) is None
+    assert continued_from(compressed.loading, saved.state, -0.288, approached) is None
+
+
+def test_a_compressive_preload_goes_on_from_the_state_its_loading_passes(base, tmp_path, capsys):
+    """With loading.preload_via the path to -0.144 lands on 0 (config.yaml lists the study's preloads):
+    ``capslide preload --from-state`` at -0.144 goes on from the state at 0, and a case slid from that state is the
+    case alone, bit for bit."""
+    assert base["loading"]["preload_via"] == [-0.288, -0.144, 0.0, 0.144, 0.288]
+    every = {"output__checkpoint_every": 7}  # the schedule of run_checkpointed, also in the CLI's run
+    zero = params_of(base, **every)
+    pre = normal_state(zero, tmp_path / "Fn+0.000.npz", tmp_path)
+    approached = [r.Fn for r in pre.records if r.phase == Phase.APPROACH][-1]
+    assert approached > 0.0  # the adhesive cap's approach ends tensile: the loading passes 0 on its way to -0.144
+    compressed = params_of(base, loading__preload=-0.144, **every)
+    assert continued_from(compressed.loading, pre.state, 0.0, approached).targets == [-0.144]
+    assert continued_from(zero.loading, pre.state, 0.0, approached) is None  # not beyond it
+    state = tmp_path / "Fn-0.144.npz"
+    sets = [a for s in [*COARSE, "loading.preload=-0.144", "output.checkpoint_every=7"] for a in ("--set", s)]
+    assert main(["preload", str(PAPER_CONFIG), *sets, "-q", "--from-state", str(tmp_path / "Fn+0.000.npz"),
+                 "-o", str(state)]) == 0
+    assert "starting afresh" not in capsys.readouterr().err
+    ea0 = params_of(base, loading__preload=-0.144, **every, **{k.replace(".", "__"): v for k, v in EA0.items()})
+    shared = run_checkpointed(ea0, tmp_path / "shared", resume=read_normal_state(state, ea0.config))
+    alone = run_checkpointed(ea0, tmp_path / "alone")
+    landed = [r.Fn for r in alone.records if r.phase == Phase.PRELOAD]
+    assert min(abs(f) for f in landed) < 1e-9 and landed[-1] == pytest.approx(-0.144)  # through 0
+    assert_same_case(alone, shared)
 
 
 def test_a_failed_preload_ends_every_case_from_it_the_same_way(base, tmp_path):

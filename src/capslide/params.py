@@ -183,6 +183,7 @@ class Loading:
     stop_at_onset: bool = False  # end the slide at the onset of full sliding
     slide_back: bool = False  # after ubar_max, slide back to ubar = 0
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
+    preload_via: tuple[float, ...] = ()  # E L0: forces the preload lands on when it passes them
     normal_control: str = "force"  # while sliding: force, height or spring
     spring_stiffness: float | None = None  # E (force per width per length) of normal_control = spring
     velocity: float | None = None  # L0/s: the stage's speed; None: quasi-static, no time
@@ -283,7 +284,7 @@ class Parameters:
                 normal_control=load["normal_control"],
                 spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
                 velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
-                dwell=float(load["dwell"]),
+                dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
             ),
             solver=SolverSpec(
                 linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),

@@ -1,8 +1,10 @@
 # The study's cases: one netCDF file per (model, preload), from config["study"] (capslide.studies.expansion).
 # The approach and the preload do not depend on the friction model: they are computed once per preload into a
 # normal state (capslide preload), and every case whose overrides act only from the slide on starts from it
-# (capslide run --from-state, bitwise the same case file). Tensile preloads go on from the state at
-# loading.retract_from, as the case's own path does. Other cases approach and preload themselves.
+# (capslide run --from-state, bitwise the same case file). A state goes on from the state at the last preload its
+# own path passes (capslide.loadpath.preload_targets): with loading.preload_via listing the study's preloads,
+# the five states form one chain (0, -0.144, -0.288 by loading, +0.144, +0.288 by retraction), and only the
+# first approaches. Other cases approach and preload themselves.
 STUDY = config["study"]
 CASES = expand_study(STUDY, "study", "config")  # case name -> overrides
 CASE_FILES = expand(
@@ -24,12 +26,28 @@ if any(value > 0 for value in STATE_PRELOADS.values()):
     STATE_PRELOADS.setdefault(RETRACT_FROM, config["loading"]["retract_from"])
 
 
+def _previous_state(preload):
+    """The state file (preload formatted +0.000) that the normal state at ``preload`` goes on from, or None."""
+    loading = SimpleNamespace(
+        preload=preload,
+        retract_from=config["loading"]["retract_from"],
+        preload_via=tuple(config["loading"]["preload_via"]),
+    )
+    previous = previous_target(loading, STATE_PRELOADS.values())
+    return None if previous is None else f"{previous:+.3f}"
+
+
+PREVIOUS_STATE = {
+    name: _previous_state(value) for name, value in STATE_PRELOADS.items()
+}
+
+
 rule normal_state:
     input:
         CONFIG_FILES,
-        retracted_from=lambda wildcards: (
-            STATE_FILE.format(preload=RETRACT_FROM)
-            if STATE_PRELOADS[wildcards.preload] > 0
+        previous=lambda wildcards: (
+            STATE_FILE.format(preload=PREVIOUS_STATE[wildcards.preload])
+            if PREVIOUS_STATE[wildcards.preload]
             else []
         ),
     output:
@@ -56,7 +74,7 @@ rule normal_state:
             {"loading.preload": STATE_PRELOADS[wildcards.preload]}
         ),
         start=lambda wildcards, input: (
-            f"--from-state {input.retracted_from}" if input.retracted_from else ""
+            f"--from-state {input.previous}" if input.previous else ""
         ),
     shell:
         f"{THREADS_ENV} {CAPSLIDE} preload --resume {CONFIG_ARGS} {{params.overrides}} {{params.start}} -o {{output}} > {{log}} 2>&1"

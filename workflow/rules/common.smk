@@ -4,6 +4,7 @@ import re
 import shlex
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import yaml
 
@@ -15,6 +16,7 @@ from capslide.config import (
     retyped,
     validate,
 )
+from capslide.loadpath.preload_targets import previous_target
 from capslide.studies.expansion import check_runs, runs, shares_normal_state
 from snakemake.exceptions import WorkflowError
 

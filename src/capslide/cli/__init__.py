@@ -76,8 +76,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("preload", help="approach and preload the cap, write the normal state every slide of it starts from")
     _add_path_args(p, "STATE.npz", "the normal state file to write",
-                   "a tensile preload: go on from this normal state at loading.retract_from (same configuration but "
-                   "the preload) when the path passes through it")
+                   "go on from this normal state, computed for the same configuration at a preload this path passes "
+                   "(loading.retract_from for a tensile preload, or one of loading.preload_via)")
     p.set_defaults(func=cmd_preload)
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")

@@ -6,6 +6,7 @@ import json
 import os
 import signal
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -130,21 +131,22 @@ def cmd_run(args) -> int:
     return EXIT_STATUS[result.status]
 
 
-def _retraction_start(params, path: str):
+def _continued_start(params, path: str):
     """The path of ``params`` continued from the normal state ``path``, computed for the same configuration
-    preloaded to ``loading.retract_from``; None (with a notice) when this preload is not reached through it."""
-    from dataclasses import replace
-
-    from ..config import apply_settings
-    from ..loadpath.cap import retraction_from
+    preloaded to another force that this path passes (``loading.retract_from`` for a tensile preload, or a force
+    of ``loading.preload_via``); None (with a notice) when this preload is not reached through it."""
+    from ..io.normal_state import NormalStateError, read_normal_state_at_any_preload
+    from ..loadpath.cap import continued_from
     from ..states import Phase
 
-    config = apply_settings(params.config, {"loading.preload": params.loading.retract_from})
-    saved = _normal_state(path, config)
+    try:
+        saved, reached = read_normal_state_at_any_preload(path, params.config)
+    except NormalStateError as err:
+        raise InputError(str(err)) from None
     approached = [r.Fn for r in saved.records if r.phase in (Phase.APPROACH, Phase.SPREAD)]
     state = None
     if saved.ended is None and approached:
-        state = retraction_from(params.loading, saved.state, approached[-1])
+        state = continued_from(params.loading, saved.state, reached, approached[-1])
     if state is None:
         print(f"capslide: the path to this preload does not pass through '{path}'; starting afresh", file=sys.stderr)
         return None
@@ -162,7 +164,7 @@ def cmd_preload(args) -> int:
     params = parameters(args)
     (output,) = check_outputs([args.output], {"npz"})
     cost.check(params, cap_mesh_spec(params))
-    start = _retraction_start(params, args.from_state) if args.from_state else None
+    start = _continued_start(params, args.from_state) if args.from_state else None
     result, writer = _run_checkpointed(params, output, args, start, stop_before="dwell")
     ended = None if result.status == Status.COMPLETED else (result.status, result.reason)
     write_normal_state(output, SavedCase(result.state, result.records, [], result.wall_time, ended), params.config)

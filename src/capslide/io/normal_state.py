@@ -25,7 +25,7 @@ from ..states import Status
 from .checkpoint import SavedCase, path_state, read_guarded, read_signed, record_arrays, records_of, state_arrays, write_signed
 
 __all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
-           "read_normal_state"]
+           "read_normal_state", "read_normal_state_at_any_preload"]
 
 FORMAT = "capslide normal state 1"
 
@@ -82,26 +82,39 @@ def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
     return "none"
 
 
-def _load(path: Path, config: Mapping) -> SavedCase:
+def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:
     data, meta = read_signed(path, "normal state", NormalStateError)
     if meta.get("format") != FORMAT:
         raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
     theirs, own = json.loads(meta["normal_config"]), normal_config(config)
+    preload = float(theirs["loading.preload"])
+    if any_preload:
+        own["loading.preload"] = preload
     if _text(theirs) != _text(own):
         raise NormalStateError(f"normal state '{path}' was computed for another configuration "
                                f"({_first_difference(theirs, own)})")
     records = records_of({k.removeprefix("record_"): v for k, v in data.items() if k.startswith("record_")})
     status = Status(meta["status"])
     ended = None if status == Status.COMPLETED else (status, meta["reason"])
-    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended)
+    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended), preload
 
 
-def read_normal_state(path: str | Path, config: Mapping) -> SavedCase:
-    """The normal state in ``path``, checked against the normal configuration of ``config``; NormalStateError
-    (one line) when the file is damaged, foreign or for another configuration."""
+def _read(path: str | Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:
     path = Path(path)
     if path.is_dir():
         raise NormalStateError(f"normal state '{path}' is a directory")
     if not path.is_file():
         raise NormalStateError(f"normal state '{path}' does not exist")
-    return read_guarded(lambda: _load(path, config), path, "normal state", NormalStateError)
+    return read_guarded(lambda: _load(path, config, any_preload), path, "normal state", NormalStateError)
+
+
+def read_normal_state(path: str | Path, config: Mapping) -> SavedCase:
+    """The normal state in ``path``, checked against the normal configuration of ``config``; NormalStateError
+    (one line) when the file is damaged, foreign or for another configuration."""
+    return _read(path, config, any_preload=False)[0]
+
+
+def read_normal_state_at_any_preload(path: str | Path, config: Mapping) -> tuple[SavedCase, float]:
+    """The normal state in ``path`` and the preload Fn* it was computed for, checked against the normal
+    configuration of ``config`` at that preload (a path that may go on to ``config``'s own preload)."""
+    return _read(path, config, any_preload=True)

@@ -9,7 +9,8 @@ scalar load parameter:
 * ``spread`` (with ``approach_edge_step`` > 0): the contact edge, its surface points held at the end gap, spreads
   until Fn <= 0 (stiff, short-range laws, whose apex gap turns too at the snap-in);
 * ``preload``: the normal force to each target; tensile targets are reached by retracting from
-  ``loading.retract_from``, as in the experiment; a retraction that loses the contact ends the path detached;
+  ``loading.retract_from``, as in the experiment, and the path lands on the forces of ``loading.preload_via`` it
+  passes; a retraction that loses the contact ends the path detached;
 * ``dwell`` (with ``loading.dwell`` > 0): time passes at the preload under the slide's normal control, from a
   stage set at the preloaded state (a viscoelastic bulk relaxes);
 * ``slide``: friction starts (anchors at the preloaded state; from the start of the approach with
@@ -30,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Generator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -40,11 +41,12 @@ from ..model.system import CapModel, History
 from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
+from .preload_targets import preload_targets
 from .slide_rules import Mark, either, onset_bracket, onset_check, onset_step_limit, snap_check
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
-           "preload_targets", "retraction_from", "slide_constraint", "snap_check"]
+           "preload_targets", "continued_from", "slide_constraint", "snap_check"]
 
 LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
 
@@ -204,30 +206,23 @@ def _current_Fn(model: CapModel, state: PathState) -> float:
     return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors, state.history.slip)[1]
 
 
-def preload_targets(loading, Fn_approached: float) -> list[float]:
-    """The preload targets after an approach that ended at ``Fn_approached``: the preload, reached through
-    ``retract_from`` when it is tensile beyond the approach's end force."""
-    L = loading
-    if L.preload > 0.0 and L.retract_from < min(Fn_approached, L.preload):
-        return [L.retract_from, L.preload]
-    return [L.preload]
-
-
 def _preload_targets(model: CapModel, state: PathState) -> list[float]:
     return preload_targets(model.params.loading, _current_Fn(model, state))
 
 
-def retraction_from(loading, preloaded: PathState, Fn_approached: float) -> PathState | None:
-    """The path to ``loading.preload`` continued from ``preloaded``, a path preloaded to ``loading.retract_from``
-    whose approach ended at ``Fn_approached``, when the path passes through it (a tensile preload reached by
-    retraction); None otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
-    targets = preload_targets(loading, Fn_approached)
-    if (len(targets) < 2 or preloaded.loop is not None or preloaded.targets
+def continued_from(loading, preloaded: PathState, reached: float, Fn_approached: float) -> PathState | None:
+    """The path to ``loading.preload`` continued from ``preloaded``, a path of the same configuration preloaded to
+    ``reached`` whose approach ended at ``Fn_approached``, when the path passes through it (its targets begin with
+    those of ``reached``: a preload beyond it on the loading, or a tensile one reached by retraction); None
+    otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
+    ours = preload_targets(loading, Fn_approached)
+    theirs = preload_targets(replace(loading, preload=reached), Fn_approached)
+    if (len(ours) <= len(theirs) or ours[:len(theirs)] != theirs or preloaded.loop is not None or preloaded.targets
             or preloaded.leg not in ("dwell", "slide", "done")):
         return None
     if not preloaded.marks or preloaded.marks[-1].phase != Phase.PRELOAD:
         return None
-    return PathState("preload", preloaded.x, preloaded.history, None, targets[1:], list(preloaded.marks),
+    return PathState("preload", preloaded.x, preloaded.history, None, ours[len(theirs):], list(preloaded.marks),
                      preloaded.cutbacks, preloaded.smallest)
 
 
