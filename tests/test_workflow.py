@@ -29,6 +29,22 @@ def test_preset_file_reaches_every_case_and_the_convergence_target_plans(workdir
     assert jobs["convergence_table"] == "1" and int(jobs["convergence_case"]) >= 40
 
 
+def test_the_normal_states_form_one_chain(workdir):
+    """With loading.preload_via listing the study's preloads, each normal state goes on from the one before it on
+    its path: only the state at 0 approaches; without preload_via the tensile states go on from -0.288 (as
+    before) and the others approach themselves."""
+    def chain(*args):
+        res = snakemake(workdir, "-n", "-p", *args)
+        assert res.returncode == 0, res.stderr[-2000:]
+        runs = re.findall(r"capslide preload .*?(?:--from-state results/states/Fn(\S+)\.npz )?-o results/states/Fn(\S+)\.npz",
+                          res.stdout)
+        return {state: start or None for start, state in runs}
+    assert chain() == {"+0.000": None, "-0.144": "+0.000", "-0.288": "-0.144", "+0.144": "-0.288",
+                       "+0.288": "+0.144"}
+    assert chain("--config", "loading={preload_via: []}") == {"+0.000": None, "-0.144": None, "-0.288": None,
+                                                              "+0.144": "-0.288", "+0.288": "-0.288"}
+
+
 def test_the_workflow_passes_its_linter(workdir):
     res = subprocess.run([str(SNAKEMAKE), "--lint"], cwd=workdir, capture_output=True, text=True)
     assert res.returncode == 0 and "Congratulations" in res.stdout + res.stderr, res.stdout[-3000:]

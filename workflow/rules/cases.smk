@@ -26,19 +26,9 @@ if any(value > 0 for value in STATE_PRELOADS.values()):
     STATE_PRELOADS.setdefault(RETRACT_FROM, config["loading"]["retract_from"])
 
 
-def _previous_state(preload):
-    """The state file (preload formatted +0.000) that the normal state at ``preload`` goes on from, or None."""
-    loading = SimpleNamespace(
-        preload=preload,
-        retract_from=config["loading"]["retract_from"],
-        preload_via=tuple(config["loading"]["preload_via"]),
-    )
-    previous = previous_target(loading, STATE_PRELOADS.values())
-    return None if previous is None else f"{previous:+.3f}"
-
-
 PREVIOUS_STATE = {
-    name: _previous_state(value) for name, value in STATE_PRELOADS.items()
+    name: previous_state(value, STATE_PRELOADS.values())
+    for name, value in STATE_PRELOADS.items()
 }
 
 

@@ -101,6 +101,18 @@ def shared_state(sets):
     return None
 
 
+def previous_state(preload, computed):
+    """The preload (+0.000) of the normal state that the state at ``preload`` goes on from, among the
+    preloads ``computed``, or None (capslide.loadpath.preload_targets)."""
+    loading = SimpleNamespace(
+        preload=preload,
+        retract_from=config["loading"]["retract_from"],
+        preload_via=tuple(config["loading"]["preload_via"]),
+    )
+    previous = previous_target(loading, computed)
+    return None if previous is None else f"{previous:+.3f}"
+
+
 def case_priority(sets):
     """Longest first, so that the two cores finish together: a slide's cost grows with the preload's compression
     (tensile cases are the quickest, docs/performance.md), and every case ranks below the normal states (10).
