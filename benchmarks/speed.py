@@ -6,6 +6,7 @@ quantities of interest of two result trees side by side.
     .venv/bin/python benchmarks/speed.py qoi ../clone-a/results/cases results/cases
     .venv/bin/python benchmarks/speed.py onset ../clone-a/results/cases results/cases
     .venv/bin/python benchmarks/speed.py iterations ../clone-a/results/cases results/cases
+    .venv/bin/python benchmarks/speed.py timeline ../clone-a/.snakemake/log/*.snakemake.log
 
 ``reproduce`` runs ``snakemake --cores 2`` in each clone (after ``make setup`` there) with ``results/``, ``logs/``
 and ``.snakemake/`` removed before each run, the clones alternating, and prints every time and the medians.
@@ -13,14 +14,17 @@ and ``.snakemake/`` removed before each run, the clones alternating, and prints 
 5-point Laplacian of a 300 x 300 grid plus one solve (median of 5), and prints both and their ratio. ``qoi``
 prints peak Ft, the onset of full sliding (ubar, area) and Ft at ubar = 4 L0 of every case file present in both
 directories, with the largest relative difference; ``onset`` the slide steps between which the onset lies in each
-tree; ``iterations`` steps, Newton iterations and cut-backs. Nothing is asserted: the numbers are for
+tree; ``iterations`` steps, Newton iterations and cut-backs; ``timeline`` when each job of a workflow run started
+and ended (whole seconds, from Snakemake's log) and the job time per rule. Nothing is asserted: the numbers are for
 docs/performance.md.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import math
+import re
 import shutil
 import statistics
 import subprocess
@@ -174,6 +178,40 @@ def cmd_reproduce(args) -> None:
         print(f"| {repo} | {', '.join(f'{t:.0f}' for t in ts)} | {statistics.median(ts):.0f} |")
 
 
+def job_timeline(log_text: str) -> list[tuple[float, float, str]]:
+    """(start, end, job) in seconds from the first timestamp of a Snakemake log (.snakemake/log/*.log): a job
+    starts at the timestamp before its ``rule``/``localrule`` line and ends at the one before its ``Finished jobid``
+    line; ``job`` is the rule and its wildcards."""
+    stamp, t0, rule, started, names, out = None, None, None, {}, {}, []
+    for line in log_text.splitlines():
+        if m := re.match(r"\[(\w{3} \w{3} +\d+ [\d:]+ \d{4})\]", line):
+            stamp = datetime.datetime.strptime(m.group(1), "%a %b %d %H:%M:%S %Y")
+            t0 = t0 or stamp
+        elif m := re.match(r"(?:local)?rule (\w+):", line):
+            rule = m.group(1)
+        elif (m := re.match(r"\s+jobid: (\d+)", line)) and rule:
+            started[m.group(1)], names[m.group(1)], rule = stamp, rule, None
+            last = m.group(1)
+        elif (m := re.match(r"\s+wildcards: (.*)", line)) and started:
+            names[last] += " " + m.group(1)
+        elif (m := re.match(r"Finished jobid: (\d+)", line)) and m.group(1) in started:
+            j = m.group(1)
+            out.append(((started[j] - t0).total_seconds(), (stamp - t0).total_seconds(), names[j]))
+    return out
+
+
+def cmd_timeline(args) -> None:
+    jobs = job_timeline(args.log.read_text())
+    print("| start (s) | end (s) | job (s) | job |\n|---|---|---|---|")
+    for start, end, name in sorted(jobs):
+        print(f"| {start:.0f} | {end:.0f} | {end - start:.0f} | {name} |")
+    totals: dict[str, float] = {}
+    for start, end, name in jobs:
+        totals[name.split()[0]] = totals.get(name.split()[0], 0.0) + end - start
+    print("\njob time per rule (s): " + ", ".join(f"{k} {v:.0f}" for k, v in sorted(totals.items())))
+    print(f"wall time (s): {max(end for _, end, _ in jobs):.0f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="command", required=True)
@@ -197,6 +235,9 @@ def main() -> None:
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--configfile", help="a config overlay for every run (config/smoke.yaml: a quick check)")
     p.set_defaults(func=cmd_reproduce)
+    p = sub.add_parser("timeline", help="when each job of a Snakemake run started and ended, from its log")
+    p.add_argument("log", type=Path, help=".snakemake/log/*.snakemake.log of the run")
+    p.set_defaults(func=cmd_timeline)
     args = ap.parse_args()
     args.func(args)
 
