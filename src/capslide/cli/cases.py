@@ -100,14 +100,21 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
     return result, writer
 
 
-def _normal_state(path: str, config):
-    """The normal state file ``path`` for ``config`` (InputError, one line, when it cannot be used)."""
-    from ..io.normal_state import NormalStateError, read_normal_state
+def _read_state(read, path: str, config):
+    """``read(path, config)`` of a normal state file; its NormalStateError as an InputError (one line)."""
+    from ..io.normal_state import NormalStateError
 
     try:
-        return read_normal_state(path, config)
+        return read(path, config)
     except NormalStateError as err:
         raise InputError(str(err)) from None
+
+
+def _normal_state(path: str, config):
+    """The normal state file ``path`` for ``config`` (InputError, one line, when it cannot be used)."""
+    from ..io.normal_state import read_normal_state
+
+    return _read_state(read_normal_state, path, config)
 
 
 def cmd_run(args) -> int:
@@ -135,14 +142,11 @@ def _continued_start(params, path: str):
     """The path of ``params`` continued from the normal state ``path``, computed for the same configuration
     preloaded to another force that this path passes (``loading.retract_from`` for a tensile preload, or a force
     of ``loading.preload_via``); None (with a notice) when this preload is not reached through it."""
-    from ..io.normal_state import NormalStateError, read_normal_state_at_any_preload
+    from ..io.normal_state import read_normal_state_at_any_preload
     from ..loadpath.cap import continued_from
     from ..states import Phase
 
-    try:
-        saved, reached = read_normal_state_at_any_preload(path, params.config)
-    except NormalStateError as err:
-        raise InputError(str(err)) from None
+    saved, reached = _read_state(read_normal_state_at_any_preload, path, params.config)
     approached = [r.Fn for r in saved.records if r.phase in (Phase.APPROACH, Phase.SPREAD)]
     state = None
     if saved.ended is None and approached:
