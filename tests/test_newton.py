@@ -71,9 +71,11 @@ def test_admissibility_is_enforced():
 
 def test_next_increment_estimate_on_the_cap(paper_config, monkeypatch):
     """The estimate of the next Newton increment (the solver's stored LU factors of an earlier Jacobian, with the
-    border) is within a factor 2.5 of the exact one (a direct solve of the bordered Jacobian at the converged state)
-    at every converged step of a coarse DI case, so that estimate_fraction = 0.1 keeps the next increment below
-    dx_tol; and most solves end on it. Measured: exact / estimate between 0.82 and 2."""
+    border) is within a factor 5 of the exact one (a direct solve of the bordered Jacobian at the converged state)
+    at every converged step of a coarse DI case: half the factor 1 / estimate_fraction = 10 at which a solve that
+    ends on the estimate could leave a next increment above dx_tol. Most solves end on it, and none leaves one.
+    Measured: exact / estimate between 0.80 and 3.7 (the largest where the exact increment is 1e-13, after a
+    slide's first step from the stick predictor; 2.45 before it), largest exact next increment 5.5e-10."""
     from capslide.config import apply_overrides, validate
     from capslide.driver.case import run_case
     from capslide.loadpath import continuation as cont
@@ -107,7 +109,7 @@ def test_next_increment_estimate_on_the_cap(paper_config, monkeypatch):
     print(f"{sum(used)} of {len(exact)} solves ended on the estimate; exact / estimate {ratio.min():.3g} to "
           f"{ratio.max():.3g}; largest exact next increment {max(exact):.2e}")
     assert sum(used) > len(exact) // 2
-    assert np.all((ratio >= 0.5) & (ratio <= 2.5))
+    assert np.all((ratio >= 0.5) & (ratio <= 0.5 / NewtonOptions().estimate_fraction))
     assert max(exact) <= NewtonOptions().dx_tol
 
 

@@ -133,6 +133,44 @@ def test_stiff_penalty_first_slide_step_converges_with_inexact_newton(paper_conf
     assert np.isfinite(res.scalars["onset_ubar"])
 
 
+def test_the_first_slide_step_starts_from_the_stick_solution(paper_config):
+    """EA0 at Fn* = 0: at the preloaded state every tangential trial traction is 0 and the first slide step's
+    trial traction (eps_t x 0.001 = 0.1 E) exceeds EA0's threshold on most of the contact, so Newton from the
+    preloaded state landed near full sliding and the step was cut back twice (30 + 30 + 22 iterations, issue 19).
+    Started from the solution with every point in stick (Leg.stick_first), the step converges at its first size in
+    a few iterations, the predictor's counted."""
+    p = params_with(paper_config, "friction.model=EA", "friction.s_cut=0", "loading.ubar_max=0.01")
+    res = run_case(p)
+    assert res.status.label == "completed", res.reason
+    first = next(r for r in res.records if r.phase == Phase.SLIDE and r.ubar > 0.0)
+    assert first.ubar == pytest.approx(p.loading.slide_step, rel=1e-12)
+    assert first.newton_iterations <= 10
+
+
+def test_the_stick_model_holds_every_point_and_leaves_the_model_alone(paper_config):
+    """CapModel.sticking(): the same cap with Tt = the trial traction at every point however far it is beyond the
+    threshold, no slip weakening, and a linear solver of its own; the model it came from is unchanged."""
+    from capslide.laws.friction import Sticking
+    from capslide.model.build import build_model
+
+    model = build_model(params_with(paper_config, "friction.model=EA", "friction.s_cut=0",
+                                    "friction.static_over_kinetic=1.5"))
+    law, weakening, solver = model.contact.law, model.contact.weakening, model.solver
+    stuck = model.sticking()
+    assert isinstance(stuck.contact.law, Sticking) and stuck.contact.weakening is None
+    assert stuck.solver is not solver and type(stuck.solver) is type(solver)
+    assert (model.contact.law, model.contact.weakening, model.solver) == (law, weakening, solver)
+    x = np.zeros(model.n_dofs + 1)
+    x[-1] = model.mesh.nodes[model.apex_node, 1] + 0.5 * model.contact.contact_gap  # the apex in contact
+    history = model.start_friction(x)
+    ubar = 5.0  # the flat moved 5 L0 from the anchors: trial traction eps_t ubar at every point
+    Tt, state = stuck.contact.tangential_state(x[:-1], x[-1], ubar, history.anchors, history.slip)
+    _, own = model.contact.tangential_state(x[:-1], x[-1], ubar, history.anchors, history.slip)
+    touching = state != SlipState.FREE
+    assert touching.sum() > 10 and np.all(state[touching] == SlipState.STICK) and np.all(own[touching] == SlipState.SLIP)
+    assert Tt[touching] == pytest.approx(model.contact.eps_t * ubar, rel=1e-12)
+
+
 def test_force_balance_at_every_step(di_case):
     """The contact force on the cap equals minus the internal force at the clamped base, at every converged step."""
     p, res = di_case

@@ -83,7 +83,7 @@ cases:
                 check: force_balance}
   slide_back: {set: {loading.slide_back: true, loading.ubar_max: 3.0}, expect: completed, check: closed_loop}
   big_steps: {set: {loading.approach_step_over_r0: 2.5, loading.force_step: 0.2, loading.slide_step: 0.02,
-                    loading.max_slide_step: 1.0}, expect: completed, check: recovered}
+                    loading.max_slide_step: 1.0, loading.ubar_max: 2.5}, expect: completed, check: recovered}
   g_reg_1.5: {set: {adhesion.g_reg_over_g_eq: 1.5}, expect: rejected, check: none}
 """
 

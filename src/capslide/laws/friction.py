@@ -17,7 +17,7 @@ import numpy as np
 from ..params import Adhesion, Friction
 from . import contact
 
-__all__ = ["FrictionLaw", "DistanceIndependent", "ExtendedAmontons", "friction_law", "ReturnMapSettings"]
+__all__ = ["FrictionLaw", "DistanceIndependent", "ExtendedAmontons", "Sticking", "friction_law", "ReturnMapSettings"]
 
 
 class FrictionLaw(Protocol):
@@ -55,6 +55,16 @@ class ExtendedAmontons:
     def threshold(self, g, J):
         T, dT = contact.ea_threshold(g, self.mu, self.g_cut, self.T0, self.r0, self.g_reg)
         return T, dT, np.zeros_like(T)
+
+
+@dataclass(frozen=True)
+class Sticking:
+    """Every point sticks: a threshold no trial traction reaches (the largest float, not inf, so that the return
+    map's unused slip branch stays finite). The slide's stick predictor solves with it (loadpath.continuation)."""
+
+    def threshold(self, g, J):
+        g = np.asarray(g, dtype=float)
+        return np.full_like(g, np.finfo(float).max), np.zeros_like(g), np.zeros_like(g)
 
 
 @dataclass(frozen=True)

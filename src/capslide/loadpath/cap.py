@@ -298,7 +298,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=step_limit, rejects=rejects,
-                             seconds_per_unit=seconds_per_unit(model)))
+                             seconds_per_unit=seconds_per_unit(model), stick_first=True))
     return (yield from _run(model, state, steps, after))
 
 

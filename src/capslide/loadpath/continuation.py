@@ -5,7 +5,9 @@ by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and
 shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below
 the minimum step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of
 looping. A secant predictor extrapolates the last two converged states, unless the leg asks for none (under force
-control it started the preload's Newton solves farther off than the last state did). Each converged step is
+control it started the preload's Newton solves farther off than the last state did). A leg may ask for a stick
+predictor of its first step instead (``stick_first``): a Newton solve with every friction point held in stick
+(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Each converged step is
 measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
 :class:`LegEnd`. The loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again
 from a saved one. Nothing here knows of files, terminals or checkpoints.
@@ -58,6 +60,7 @@ class Leg:
     rejects: Callable[[StepRecord], str | None] | None = None
     seconds_per_unit: float = 0.0  # time (s) a unit change of the load value takes (0: no time passes)
     secant: bool = True  # predict from the last two converged states (False: start from the last one)
+    stick_first: bool = False  # predict the leg's first step by a solve with every point in stick
 
 
 @dataclass
@@ -137,16 +140,21 @@ def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndar
         if updated is None:
             return res, history
         history = updated
-        more = solve(history, res.x)
-        more.iterations += res.iterations
-        more.linear_iterations += res.linear_iterations
-        more.residual_norms = res.residual_norms + more.residual_norms
-        more.runs += res.runs
-        res = more
+        res = _after(res, solve(history, res.x))
     if res.converged and model.updated_pressure(res.x, history) is not None:
         res.converged = False
         res.reason = f"volume constraint not met after {MAX_UZAWA} Uzawa updates"
     return res, history
+
+
+def _after(first: NewtonResult, then: NewtonResult) -> NewtonResult:
+    """``then`` with the iterations, linear iterations, residual norms and runs of ``first``, which ran before it
+    in the same step, added."""
+    then.iterations += first.iterations
+    then.linear_iterations += first.linear_iterations
+    then.residual_norms = first.residual_norms + then.residual_norms
+    then.runs += first.runs
+    return then
 
 
 def continuation(model: CapModel, loop: Loop, history: History,
@@ -175,7 +183,13 @@ def continuation(model: CapModel, loop: Loop, history: History,
                 x0 = loop.x
         c = leg.constraint_of(target)
         dt = leg.seconds_per_unit * abs(target - loop.value)
+        stick = None
+        if leg.stick_first and loop.x_prev is None:  # the leg's first step starts from its stick solution
+            stick, _ = solve_constrained(model.sticking(), c, history, x0, opts, dt)
+            x0 = stick.x if stick.converged else x0
         res, solved = solve_constrained(model, c, history, x0, opts, dt)
+        if stick is not None:
+            res = _after(stick, res)
         reason = res.reason
         rec = None
         if res.converged:

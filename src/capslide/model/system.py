@@ -12,6 +12,7 @@ two solves on the same matrix K (K z1 = R, K z2 = c) and the scalar Schur comple
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -21,7 +22,7 @@ from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
 from ..fem.mixed import MixedBulkForm
 from ..fem.viscous import Networks, ViscousBranches
-from ..laws.friction import ReturnMapSettings, friction_law
+from ..laws.friction import ReturnMapSettings, Sticking, friction_law
 from ..params import Parameters
 from .constraints import FixedForce
 
@@ -105,6 +106,16 @@ class CapModel:
         self.apex_y_dof = 2 * self.apex_node + 1
         self._surface = mesh.surface_nodes
         self._surface_X = mesh.nodes[self._surface, 0]
+
+    def sticking(self) -> CapModel:
+        """This model with every surface point held in stick (:class:`capslide.laws.friction.Sticking`, no slip
+        weakening) and a fresh linear solver of the same settings, so that its solves leave this model's factors
+        alone: the model of the slide's stick predictor (loadpath.continuation)."""
+        stuck = copy.copy(self)
+        stuck.contact = copy.copy(self.contact)
+        stuck.contact.law, stuck.contact.weakening = Sticking(), None
+        stuck.solver = replace(self.solver)
+        return stuck
 
     # -- geometry of a state ------------------------------------------------
     def split(self, x: np.ndarray) -> tuple[np.ndarray, float]:
