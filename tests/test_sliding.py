@@ -211,6 +211,24 @@ def test_onset_search_bisects_below_the_ceiling():
         assert onset_step_limit(marks(sign), sign * 2.0, np.nan, 0.002, sign) == pytest.approx(0.1)
 
 
+def test_a_jump_of_the_contact_area_is_cut_back():
+    """A slide step whose contact area changes by more than 20 % is cut back (either way); one that
+    changes it by 5 %, a step of another phase, or the first step of a leg is not. The case it was written for: the
+    stability suite's tensile_90, whose Newton solve at ubar 0.7249 converged on another equilibrium (area 4.59 to
+    6.72 L0) instead of ending the peeling contact as detached."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.slide_rules import Mark, jump_check
+
+    state = SimpleNamespace(marks=[Mark(Phase.SLIDE, 0.7248, 0.354, 3.72, 0.4497, 4.59)])
+    step = lambda area, phase=Phase.SLIDE: jump_check(state)(SimpleNamespace(phase=phase, area=area))  # noqa: E731
+    assert "jumped from 4.59 to 6.72" in step(6.72)
+    assert step(0.7 * 4.59) is not None and step(4.59 * 1.05) is None and step(4.59 * 0.95) is None
+    assert step(6.72, Phase.PRELOAD) is None
+    state.marks = [Mark(Phase.PRELOAD, 0.0, 0.354, 0.0, 0.0, 7.1)]
+    assert step(4.59) is None and step(6.72, Phase.PRELOAD) is None
+
+
 def test_snapshot_landings_do_not_shorten_the_steps_after_them(paper_config, di_case):
     """Landing on a snapshot shortens that one step, not the ones after it: four snapshots up to ubar = 2, before
     the onset, add four slide steps there (measured 23 -> 27; the step rule before issue 19 went from 26 to 41) and

@@ -173,7 +173,7 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
-              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft] for m in s.marks], "cutbacks": s.cutbacks,
+              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.marks], "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
               "onset_ceiling": s.onset_ceiling}
     return arrays, header

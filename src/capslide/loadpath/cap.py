@@ -42,7 +42,7 @@ from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
 from .preload_targets import preload_targets
-from .slide_rules import Mark, either, onset_bracket, onset_check, onset_step_limit, snap_check
+from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
@@ -170,7 +170,7 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
             continue
         state.x, state.history = conv.x, conv.history
         rec = conv.record
-        state.marks = [*state.marks[-1:], Mark(rec.phase, rec.ubar, rec.Fn, rec.area_stick, rec.Ft)]
+        state.marks = [*state.marks[-1:], Mark(rec.phase, rec.ubar, rec.Fn, rec.area_stick, rec.Ft, rec.area)]
         if conv.end is not None and conv.end.status == Status.COMPLETED:
             _finish_leg(model, state, after)
         yield PathStep(conv.record, conv.x, conv.breakpoint, state,
@@ -288,7 +288,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
     forward = name == "slide"
     rejects = either(onset_check(state, control.minimum) if forward else None,
-                      snap_check(state) if model.params.friction.weakening and forward else None)
+                      snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
     direction = 1.0 if end >= start else -1.0
 
     def step_limit(ubar: float) -> float:  # the closing step a hair inside the bracket: ubar + step rounds
