@@ -1,14 +1,14 @@
 """Adaptive continuation in one scalar load parameter, as a generator of converged states.
 
-``continuation`` steps the parameter from the loop's value to ``end`` under :class:`StepControl`: the step grows
-by ``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; a step
-shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below
-the minimum step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of
-looping. A secant predictor extrapolates the last two converged states, unless the leg asks for none (under force
-control it started the preload's Newton solves farther off than the last state did). A leg may ask for a stick
-predictor of its first step instead (``stick_first``): a Newton solve with every friction point held in stick
-(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Each converged step is
-measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
+``continuation`` steps the parameter from the loop's value to ``end`` under :class:`StepControl`: the step grows by
+``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; a step
+shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below the minimum
+step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of looping. A
+secant predictor extrapolates the last two converged states, unless the leg asks for none (under force control it
+started the preload's Newton solves farther off than the last state did). A leg may ask for a stick predictor of its
+first step instead (``stick_first``): a Newton solve with every friction point held in stick
+(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Each converged
+step is measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
 :class:`LegEnd`. The loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again
 from a saved one. Nothing here knows of files, terminals or checkpoints.
 """
