@@ -68,7 +68,10 @@ def cmd_case(args) -> None:
     slide = [r for r in result.records if r.phase.label == "slide"]
     print("| case | status | steps (slide) | Newton iterations (slide) | time (s) | yardstick (s) | ratio |")
     print("|---|---|---|---|---|---|---|")
-    print(f"| DI, Fn* = 0, {params.config['preset']} | {result.status.label} | {len(result.records)} ({len(slide)}) | "
+    f = params.friction
+    model = f.model if f.model != "EA" else f"EA{f.s_cut:g}"
+    print(f"| {model}, Fn* = {params.loading.preload:g}, {params.config['preset']} | {result.status.label} | "
+          f"{len(result.records)} ({len(slide)}) | "
           f"{sum(r.newton_iterations for r in result.records)} ({sum(r.newton_iterations for r in slide)}) | "
           f"{case:.1f} | {ruler:.3f} | {case / ruler:.0f} |")
 
