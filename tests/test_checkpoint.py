@@ -21,7 +21,7 @@ COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_sl
           "loading.slide_back=true"]
 STEP_FIELDS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
                "newton_iterations", "krylov_iterations", "traction_t", "slip_state", "gap", "area_reference",
-               "x_stick_left", "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "slip")
+               "x_stick_left", "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "slip", "steady_step")
 
 
 class Killed(Exception):
@@ -79,6 +79,19 @@ def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path
     resumed = run_saving(params, path, 7, resume=saved)
     assert len(resumed.records) > kill_after
     assert_same_history(uninterrupted, resumed)
+
+
+def test_a_checkpoint_in_steady_sliding_resumes_it(setup, uninterrupted, tmp_path):
+    """A checkpoint saved where the slide has just become steady (the loop's step infinite: the next step goes to
+    the end of the leg in one) resumes into the uninterrupted history."""
+    params, text = setup
+    first = next(i for i, r in enumerate(uninterrupted.records) if r.steady_step)  # steps before the first long one
+    full = run_saving(params, tmp_path / "full", first)  # saves (and refactorizes) where the interrupted run does
+    with pytest.raises(Killed):
+        run_saving(params, tmp_path / "ckpt", first, observers=[kill_after_steps(first + 1)])
+    saved = load_checkpoint(tmp_path / "ckpt", text)
+    assert len(saved.records) == first and saved.state.loop.step == float("inf")
+    assert_same_history(full, run_saving(params, tmp_path / "ckpt", first, resume=saved))
 
 
 @pytest.fixture(scope="module")

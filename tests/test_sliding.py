@@ -229,6 +229,76 @@ def test_a_jump_of_the_contact_area_is_cut_back():
     assert step(4.59) is None and step(6.72, Phase.PRELOAD) is None
 
 
+def test_steady_sliding_needs_three_fully_sliding_steps_with_nothing_changing():
+    """Steady: the last two marks and the new step slide fully, Ft and the area change by at most 1e-8 (relative)
+    in each step, and no gap by more than 1e-8 r0 in the last one; the gaps are read only when the rest holds."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.slide_rules import Mark, steady_sliding
+
+    gap, r0 = np.array([0.02, 0.5, 3.0]), 0.1
+
+    def rec(Ft=1.55, area=9.4, gap=gap, area_stick=0.0, phase=Phase.SLIDE, ubar=2.5):
+        return SimpleNamespace(phase=phase, ubar=ubar, Ft=Ft, area=area, area_stick=area_stick, gap=gap)
+
+    marks = [Mark(Phase.SLIDE, 2.2, 0.0, 0.0, 1.55, 9.4), Mark(Phase.SLIDE, 2.3, 0.0, 0.0, 1.55, 9.4)]
+    steady = lambda marks, r, before=gap: steady_sliding(marks, r, lambda: before, r0)  # noqa: E731
+    assert steady(marks, rec())
+    assert steady(marks, rec(Ft=1.55 * (1 + 5e-9), area=9.4 * (1 - 5e-9)), gap + 0.5e-8 * r0)
+    assert not steady(marks, rec(Ft=1.55 * (1 + 2e-8)))
+    assert not steady(marks, rec(area=9.4 * (1 + 2e-8)))
+    assert not steady(marks, rec(), gap + np.array([0.0, 2e-8 * r0, 0.0]))
+    assert not steady(marks, rec(area_stick=0.01))
+    assert steady(marks, rec(ubar=0.0))  # back at the start of a slide back: no exception for ubar = 0
+    assert not steady(marks, rec(phase=Phase.PRELOAD))
+    assert not steady(marks[1:], rec())  # two fully sliding steps only
+    assert not steady([Mark(Phase.SLIDE, 2.2, 0.0, 0.01, 1.55, 9.4), marks[1]], rec())  # the first still sticks
+    assert not steady([Mark(Phase.SLIDE, 2.2, 0.0, 0.0, 1.5, 9.4), marks[1]], rec())  # Ft changed a step earlier
+
+    def unread():
+        raise AssertionError("gaps read although Ft changed")
+    assert not steady_sliding(marks, rec(Ft=1.6), unread, r0)
+
+
+def test_steady_sliding_goes_to_the_snapshots_and_the_end_in_one_step(paper_config, monkeypatch, tmp_path):
+    """Once sliding is steady, each step goes to the next snapshot or the end: the same state there as step by
+    step (QoIs, forces, gaps and tractions), in fewer steps, each a converged Newton solve, flagged in the file."""
+    import xarray as xr
+
+    import capslide.loadpath.cap as cap
+    from capslide.io.results import case_dataset, write_netcdf
+
+    p = params_with(paper_config, "friction.model=DI", "loading.ubar_max=4.0", "output.snapshot_ubar=[2.5, 3.0]")
+    steady = run_case(p)
+    monkeypatch.setattr(cap, "steady_sliding", lambda *args, **kw: False)
+    plain = run_case(p)
+    assert steady.status == plain.status == Status.COMPLETED
+    long_steps = [r for r in steady.records if r.steady_step]
+    assert [r.ubar for r in long_steps] == [2.5, 3.0, 4.0]
+    assert all(r.newton_iterations <= 2 for r in long_steps)
+    assert not any(r.steady_step for r in plain.records)
+    assert len(steady.records) <= len(plain.records) - 5
+    for key in ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area"):
+        assert steady.scalars[key] == pytest.approx(plain.scalars[key], rel=1e-9), key
+    at = {r.ubar: r for r in plain.records if r.phase == Phase.SLIDE}
+    for r in long_steps:
+        q = at[r.ubar]
+        assert r.Ft == pytest.approx(q.Ft, rel=1e-9) and r.Fn == pytest.approx(q.Fn, abs=1e-9)
+        assert r.area == pytest.approx(q.area, rel=1e-9)
+        np.testing.assert_allclose(r.gap, q.gap, rtol=0, atol=1e-9 * p.adhesion.r0)
+        np.testing.assert_allclose(r.traction_t, q.traction_t, rtol=0, atol=1e-9 * np.max(np.abs(q.traction_t)))
+    with xr.open_dataset(write_netcdf(case_dataset(steady), tmp_path / "case.nc")) as ds:
+        assert ds["steady_step"].dtype == np.int8
+        np.testing.assert_array_equal(ds["steady_step"].values, [int(r.steady_step) for r in steady.records])
+    # a rule that holds only from the onset to ubar 2.3: every long step from there ends where the rule no
+    # longer holds, and is cut back; the path goes on as step by step
+    monkeypatch.setattr(cap, "steady_sliding", lambda marks, rec, *args, **kw: rec.area_stick == 0.0 and rec.ubar < 2.3)
+    wrong = run_case(p)
+    assert wrong.status == Status.COMPLETED and not any(r.steady_step for r in wrong.records)
+    assert wrong.cutbacks > plain.cutbacks
+    assert wrong.records[-1].Ft == pytest.approx(plain.records[-1].Ft, rel=1e-9)
+
+
 def test_snapshot_landings_do_not_shorten_the_steps_after_them(paper_config, di_case):
     """Landing on a snapshot shortens that one step, not the ones after it: four snapshots up to ubar = 2, before
     the onset, add four slide steps there (measured 23 -> 27; the step rule before issue 19 went from 26 to 41) and

@@ -152,8 +152,8 @@ def test_smoke_workflow_end_to_end(workdir):
     assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 3, "all": 1}
 
     # an interrupted run (Ctrl-C during the case: the case sends SIGINT to the workflow's process group after its
-    # 45th converged step, in the slide) leaves no partial file; the rerun resumes from the checkpoint and completes
-    env = {**os.environ, "CAPSLIDE_INTERRUPT_AFTER_STEP": "45"}
+    # 30th converged step, in the slide) leaves no partial file; the rerun resumes from the checkpoint and completes
+    env = {**os.environ, "CAPSLIDE_INTERRUPT_AFTER_STEP": "30"}
     interrupted = subprocess.run([str(SNAKEMAKE), "--cores", "2", "--configfile", "config/smoke.yaml"], cwd=workdir,
                                  env=env, capture_output=True, text=True, start_new_session=True,
                                  preexec_fn=default_sigint, timeout=600)
@@ -161,7 +161,7 @@ def test_smoke_workflow_end_to_end(workdir):
     assert "capslide: interrupted" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()
     assert not (results / "cases" / "EA0_Fn+0.000.nc").exists()
     assert not list((results / "cases").glob(".*tmp*"))
-    assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_dir()  # saved at step 40
+    assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_dir()  # saved at step 20
     rerun = snakemake(workdir, "--configfile", "config/smoke.yaml")
     assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
     assert "resuming from" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()

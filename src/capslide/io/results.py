@@ -31,8 +31,8 @@ __all__ = ["CONVENTIONS", "scaled_units", "quantity", "global_attrs", "write_net
 
 CONVENTIONS = "CF-1.10"
 STEP_VARIABLES = ("Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right", "newton_iterations",
-                  "krylov_iterations", "wall_time", "area_reference", "x_stick_left", "x_stick_right", "Ft_over_area",
-                  "elastic_energy", "dissipation", "adhesion_energy", "penalty_energy", "external_work",
+                  "krylov_iterations", "wall_time", "steady_step", "area_reference", "x_stick_left", "x_stick_right",
+                  "Ft_over_area", "elastic_energy", "dissipation", "adhesion_energy", "penalty_energy", "external_work",
                   "energy_residual")
 STEP_COORDINATES = ("phase", "ubar", "h")
 CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
@@ -200,6 +200,10 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
         "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),
         "wall_time": ("step", step("wall_time"), quantity("wall time of the step", "s")),
+        "steady_step": ("step", step("steady_step", np.int8),
+                        quantity("1: the step went in one to the next snapshot ubar or the leg's end, the sliding being "
+                                 "steady (Ft, area and gaps unchanged to 1e-8 over the steps before and over it); "
+                                 "0: a step of the adaptive step control", "1")),
         "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float),
                          quantity("x force of the clamped base on the cap; force balance: Ft + base_force_x = 0",
                                   u["force"], "E L0 W")),

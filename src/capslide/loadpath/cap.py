@@ -42,7 +42,7 @@ from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .measures import StepRecord, fully_sliding
 from .preload_targets import preload_targets
-from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check
+from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check, steady_sliding
 
 __all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
            "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
@@ -295,10 +295,14 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         bracket = (1.0 - 1e-9) * onset_bracket(ubar, control.minimum)
         return onset_step_limit(state.marks, ubar, state.onset_ceiling if forward else math.nan, bracket, direction)
 
+    def steady(rec: StepRecord, x_before: np.ndarray) -> bool:
+        gap_before = lambda: model.contact.gaps(*model.split(x_before))[0].ravel()  # noqa: E731
+        return steady_sliding(state.marks, rec, gap_before, model.params.adhesion.r0)
+
     steps = continuation(model, state.loop, state.history,
                          Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=step_limit, rejects=rejects,
-                             seconds_per_unit=seconds_per_unit(model), stick_first=True))
+                             seconds_per_unit=seconds_per_unit(model), stick_first=True, steady=steady))
     return (yield from _run(model, state, steps, after))
 
 

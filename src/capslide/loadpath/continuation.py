@@ -7,7 +7,10 @@ step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with 
 secant predictor extrapolates the last two converged states, unless the leg asks for none (under force control it
 started the preload's Newton solves farther off than the last state did). A leg may ask for a stick predictor of its
 first step instead (``stick_first``): a Newton solve with every friction point held in stick
-(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Each converged
+(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Once the
+leg's ``steady`` rule holds after a step, the step control no longer caps the next steps: each goes to the next
+breakpoint or the end in one, and its record says so; a long step that fails, or after which the rule no longer
+holds, is cut back as any other (halved, to at most the step control's maximum). Each converged
 step is measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
 :class:`LegEnd`. The loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again
 from a saved one. Nothing here knows of files, terminals or checkpoints.
@@ -61,6 +64,7 @@ class Leg:
     seconds_per_unit: float = 0.0  # time (s) a unit change of the load value takes (0: no time passes)
     secant: bool = True  # predict from the last two converged states (False: start from the last one)
     stick_first: bool = False  # predict the leg's first step by a solve with every point in stick
+    steady: Callable[[StepRecord, np.ndarray], bool] | None = None  # steady(record, state before the step)
 
 
 @dataclass
@@ -68,7 +72,7 @@ class Loop:
     """The loop variables of a continuation between two steps: all it needs to go on."""
 
     value: float  # load parameter of the last converged state x
-    step: float  # next step size
+    step: float  # next step size (inf: steady, the next step goes to the next breakpoint or the end)
     x: np.ndarray
     x_prev: np.ndarray | None = None  # the converged state one step before x (secant predictor)
     value_prev: float = math.nan
@@ -172,6 +176,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if loop.pending:
             step = min(step, abs(loop.pending[0] - loop.value))
         shortened = step < loop.step  # to land on the end, a breakpoint or the step limit: loop.step is kept
+        steady = math.isinf(loop.step)
         target = loop.value + direction * step
         if loop.pending and abs(target - loop.pending[0]) <= tol:
             target = loop.pending[0]
@@ -195,12 +200,16 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if res.converged:
             rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
                           time.perf_counter() - t0, dt)
+            rec.steady_step = steady
+            still_steady = leg.steady is not None and leg.steady(rec, loop.x)
             rejected = leg.rejects(rec) if leg.rejects is not None else None
+            if rejected is None and steady and not still_steady:
+                rejected = "not steady over the long step"
             if rejected is not None:
                 rec, reason = None, rejected
         if rec is None:
             loop.cutbacks += 1
-            loop.step = 0.5 * step
+            loop.step = min(0.5 * step, control.maximum)
             if loop.cutbacks > control.max_cutbacks:
                 return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
                               f"{loop.value:.6g} ({reason})")
@@ -219,7 +228,9 @@ def continuation(model: CapModel, loop: Loop, history: History,
         status = ends(rec) if ends is not None else None
         leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
         if leg_end is None:
-            if not shortened and res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's)
+            if still_steady:
+                loop.step = math.inf
+            elif not shortened and res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's)
                 loop.step = min(loop.step * control.growth, control.maximum)
             if not direction * (end - loop.value) > tol:
                 leg_end = LegEnd(Status.COMPLETED)

@@ -51,11 +51,12 @@ class StepRecord:
     penalty_energy: float = math.nan  # elastic energy of the tangential penalty (E L0^2 per width)
     slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
     time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
+    steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
 
 
 RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
                   "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
-                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "time")
+                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "time", "steady_step")
 RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
 
 

@@ -1,20 +1,23 @@
 """Rules of the slide leg on the path's last converged steps (its marks): how long the next step may be while the stick
-zone closes, and which converged steps are cut back (the onset of full sliding overstepped; |Ft| falling too fast
-with slip weakening; the contact area jumping). They read the path state's marks and a step's record, nothing else,
-and the onset check leaves the ubar of a step it cut back in the path state (its ``onset_ceiling``); the slide leg
-in :mod:`.cap` applies them.
+zone closes, which converged steps are cut back (the onset of full sliding overstepped; |Ft| falling too fast
+with slip weakening; the contact area jumping), and when sliding is steady. They read the path state's marks and
+a step's record (the steady rule also the gaps before the step), nothing else, and the onset check leaves the ubar
+of a step it cut back in the path state (its ``onset_ceiling``); the slide leg in :mod:`.cap` applies them.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+
+import numpy as np
 
 from ..states import Phase
 from .measures import fully_sliding
 
 __all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "AREA_JUMP", "jump_check", "ONSET_BRACKET",
-           "onset_bracket", "onset_check", "either"]
+           "onset_bracket", "onset_check", "STEADY_TOLERANCE", "steady_sliding", "either"]
 
 
 @dataclass(frozen=True)
@@ -113,6 +116,28 @@ def onset_check(state, smallest: float, tolerance: float = ONSET_BRACKET):
         state.onset_ceiling = rec.ubar
         return f"the stick zone closed within a step of {length:.3g}"
     return rejects
+
+
+STEADY_TOLERANCE = 1e-8  # steady sliding: relative change of Ft and area per step, gap change per step over r0
+
+
+def steady_sliding(marks: list[Mark], rec, gap_before: Callable[[], np.ndarray], length: float,
+                   tolerance: float = STEADY_TOLERANCE) -> bool:
+    """Whether the slide is steady after the converged step ``rec`` (issue 19, item 2): the last two marks and
+    ``rec`` slide fully (contact, and no stick length; ubar = 0 included, which :func:`fully_sliding` leaves out for
+    the onset), Ft and the contact area changed by at most ``tolerance``
+    (relative) in each of the two steps, and the gap of no surface point changed by more than ``tolerance``
+    ``length`` (L0; the law's range r0) in the last one. ``gap_before()`` gives the gaps (L0) before ``rec``'s step;
+    it is called only when the rest holds. A steady state only translates with ubar (the same deformation, the
+    anchors moved along), so the path may then go on in long steps. Measured on the cap: within two steps of the
+    onset these changes fall to round-off (1e-15 to 1e-13), from 1e-5 in the step before."""
+    steps = [*marks[-2:], rec]
+    if len(steps) < 3 or any(s.phase != rec.phase or not s.area > 0.0 or s.area_stick > 0.0 for s in steps):
+        return False
+    for a, b in zip(steps[:-1], steps[1:]):
+        if not (abs(b.Ft - a.Ft) <= tolerance * abs(b.Ft) and abs(b.area - a.area) <= tolerance * b.area):
+            return False
+    return bool(np.max(np.abs(rec.gap - gap_before()), initial=0.0) <= tolerance * length)
 
 
 def either(*checks):
