@@ -176,7 +176,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if loop.pending:
             step = min(step, abs(loop.pending[0] - loop.value))
         shortened = step < loop.step  # to land on the end, a breakpoint or the step limit: loop.step is kept
-        steady = math.isinf(loop.step)
+        long_step = math.isinf(loop.step)  # the rule held after the last step: this one goes to the next stop
         target = loop.value + direction * step
         if loop.pending and abs(target - loop.pending[0]) <= tol:
             target = loop.pending[0]
@@ -200,10 +200,10 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if res.converged:
             rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
                           time.perf_counter() - t0, dt)
-            rec.steady_step = steady
+            rec.steady_step = long_step
             still_steady = leg.steady is not None and leg.steady(rec, loop.x)
             rejected = leg.rejects(rec) if leg.rejects is not None else None
-            if rejected is None and steady and not still_steady:
+            if rejected is None and long_step and not still_steady:
                 rejected = "not steady over the long step"
             if rejected is not None:
                 rec, reason = None, rejected

@@ -124,13 +124,13 @@ STEADY_TOLERANCE = 1e-8  # steady sliding: relative change of Ft and area per st
 def steady_sliding(marks: list[Mark], rec, gap_before: Callable[[], np.ndarray], length: float,
                    tolerance: float = STEADY_TOLERANCE) -> bool:
     """Whether the slide is steady after the converged step ``rec`` (issue 19, item 2): the last two marks and
-    ``rec`` slide fully (contact, and no stick length; ubar = 0 included, which :func:`fully_sliding` leaves out for
-    the onset), Ft and the contact area changed by at most ``tolerance``
-    (relative) in each of the two steps, and the gap of no surface point changed by more than ``tolerance``
-    ``length`` (L0; the law's range r0) in the last one. ``gap_before()`` gives the gaps (L0) before ``rec``'s step;
-    it is called only when the rest holds. A steady state only translates with ubar (the same deformation, the
-    anchors moved along), so the path may then go on in long steps. Measured on the cap: within two steps of the
-    onset these changes fall to round-off (1e-15 to 1e-13), from 1e-5 in the step before."""
+    ``rec`` slide fully (contact, and no stick length; ubar = 0 too, which :func:`fully_sliding` leaves out for the
+    onset), Ft and the contact area changed by at most ``tolerance`` (relative) in each of the two steps, and no
+    surface point's gap changed by more than ``tolerance`` ``length`` (L0; the law's range r0) in the last one.
+    ``gap_before()`` gives the gaps (L0) before ``rec``'s step; it is called only when the rest holds. A steady
+    state only translates with ubar (the same deformation, the anchors moved along), so the path may go on in long
+    steps. Measured on the cap: two steps after the onset these changes are round-off (1e-15 to 1e-13), from 1e-5
+    in the step before."""
     steps = [*marks[-2:], rec]
     if len(steps) < 3 or any(s.phase != rec.phase or not s.area > 0.0 or s.area_stick > 0.0 for s in steps):
         return False
