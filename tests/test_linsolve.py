@@ -193,3 +193,58 @@ def test_bordered_solve_matches_the_assembled_bordered_system(cap_system):
     ("amg", 5, False, "amg"), ("direct", 11, False, "direct"), ("lu_krylov", 11, False, "lu_krylov")])
 def test_auto_takes_lu_up_to_the_dof_limit_and_amg_above_it(kind, n_dofs, mixed, expected):
     assert choose_linear_solver(kind, n_dofs, mixed, amg_above_dofs=10) == expected
+
+
+class _CountingLU:
+    """SuperLU factors that count their solves."""
+
+    def __init__(self, A):
+        self.lu, self.solves = sp.linalg.splu(A.tocsc()), 0
+
+    def solve(self, b):
+        self.solves += 1
+        return self.lu.solve(b)
+
+
+@pytest.mark.parametrize("fixed_height", [True, False])
+def test_bordered_preconditioner_solves_for_its_border_once(cap_system, monkeypatch, fixed_height):
+    """The preconditioner of solve_bordered is the exact inverse of [A0 c; d^T e]. A0^{-1} c costs one LU solve per
+    factorization and array c, shared by the GMRES run and the next-increment estimate of a Newton iteration, and
+    renewed after a refactorization. With d = 0 (a fixed height) it is solved only for a vector with a last entry."""
+    from capslide.solvers import linsolve
+
+    monkeypatch.setattr(linsolve, "_factor", lambda A, *_: _CountingLU(A))
+    mesh, A, b, bc = cap_system
+    rng = np.random.default_rng(7)
+    n = A.shape[0]
+    c, d = rng.normal(size=n), (np.zeros(n) if fixed_height else rng.normal(size=n))
+    c[bc.dofs] = d[bc.dofs] = 0.0
+    e = 1.0 if fixed_height else 5.0 + abs(d @ c)
+    J = sp.bmat([[A, sp.csr_matrix(c[:, None])], [sp.csr_matrix(d[None, :]), sp.csr_matrix([[e]])]]).tocsc()
+    solver = LUKrylovSolver(rtol=1e-10)
+    solver.factor(A)
+    expected = (0, 1) if fixed_height else (1, 0)  # the first call with a border entry (or d) solves for it
+    for last, solves in zip((0.0, 0.7), expected):
+        rhs = np.concatenate([b, [last]])
+        exact = sp.linalg.spsolve(J, rhs)
+        lu = solver._lu
+        before = lu.solves
+        x = solver.approximate_bordered(c, d, e, rhs)
+        assert np.linalg.norm(x - exact) <= 1e-10 * np.linalg.norm(exact)
+        border_solves = lu.solves - before - 1  # one solve applies the inverse
+        assert border_solves == solves
+    solver.solve_bordered(A, c, d, e, np.concatenate([b, [0.0 if fixed_height else 0.7]]))
+    again = solver._lu.solves
+    solver.approximate_bordered(c, d, e, np.concatenate([b, [0.7]]))
+    assert solver._lu.solves == again + 1  # the border solve is kept for this c ...
+    solver.approximate_bordered(c.copy(), d, e, np.concatenate([b, [0.7]]))
+    assert solver._lu.solves == again + 3  # ... and made anew for another array
+    solver.approximate_bordered(c, d, e, np.concatenate([b, [0.7]]))  # kept for c again
+    A2 = (A * 1.0).tocsr()
+    A2.data *= 1.0 + 0.01 * rng.uniform(size=A2.nnz)
+    solver.factor(A2)
+    J2 = sp.bmat([[A2, sp.csr_matrix(c[:, None])], [sp.csr_matrix(d[None, :]), sp.csr_matrix([[e]])]]).tocsc()
+    rhs = np.concatenate([b, [0.7]])
+    exact2 = sp.linalg.spsolve(J2, rhs)
+    x = solver.approximate_bordered(c, d, e, rhs)  # new factors: the kept border solve must not serve them
+    assert np.linalg.norm(x - exact2) <= 1e-10 * np.linalg.norm(exact2)

@@ -40,19 +40,28 @@ def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
     return spla.splu(A.tocsc(), permc_spec=permc_spec)
 
 
-def _bordered_inverse(lu, c: np.ndarray, d: np.ndarray, e: float):
+def _bordered_inverse(lu, c: np.ndarray, d: np.ndarray, e: float, border_solve=None):
     """The exact inverse of [A0 c; d^T e] as a callable (n + 1 vectors), A0 the matrix of the SuperLU factors
-    ``lu``: one LU solve for A0^{-1} c here, then one per application."""
+    ``lu``: one LU solve per application, and one for A0^{-1} c (``border_solve()``, default ``lu.solve(c)``) when
+    first needed. With d = 0 (a fixed height) that is only for a vector whose last entry is not zero, which GMRES
+    on a residual with G = 0 never makes; the result is the same bit for bit, as z - w 0 = z."""
     n = len(c)
-    w = lu.solve(c)
-    schur = e - d @ w
+    w = None
+
+    def border() -> np.ndarray:
+        nonlocal w
+        if w is None:
+            w = lu.solve(c) if border_solve is None else border_solve()
+        return w
+
+    schur = e - d @ border() if d.any() else e
     if schur == 0.0 or not np.isfinite(schur):
         raise np.linalg.LinAlgError("singular bordered preconditioner (Schur complement zero)")
 
     def apply(r: np.ndarray) -> np.ndarray:
         z = lu.solve(r[:n])
         dh = (r[n] - d @ z) / schur
-        return np.concatenate([z - w * dh, [dh]])
+        return np.concatenate([z if dh == 0.0 else z - border() * dh, [dh]])
     return apply
 
 
@@ -110,6 +119,8 @@ class LUKrylovSolver:
     permc_spec: str = "MMD_AT_PLUS_A"
     diagonal_pivoting: bool = False
     _lu: object = field(default=None, init=False, repr=False)
+    _generation: int = field(default=0, init=False, repr=False)  # counts factorizations
+    _border: tuple | None = field(default=None, init=False, repr=False)  # (generation, c, A0^{-1} c)
     _base_iterations: float | None = field(default=None, init=False, repr=False)
     _excess_iterations: float = field(default=0, init=False, repr=False)
     _stale: bool = field(default=False, init=False, repr=False)  # factors kept, but renewed at the next solve
@@ -121,11 +132,24 @@ class LUKrylovSolver:
     def approximate_bordered(self, c: np.ndarray, d: np.ndarray, e: float, b: np.ndarray) -> np.ndarray | None:
         """[A0 c; d^T e]^{-1} b with the stored factors A0 (the preconditioner of :meth:`solve_bordered`); None
         without factors."""
-        return None if self._lu is None else _bordered_inverse(self._lu, c, d, e)(b)
+        return None if self._lu is None else self._bordered(c, d, e)(b)
+
+    def _bordered(self, c: np.ndarray, d: np.ndarray, e: float):
+        """The bordered inverse of the stored factors; A0^{-1} c is kept for the next call with the same factors
+        and the same array c (a Newton iteration's GMRES run, then its next-increment estimate)."""
+        lu, generation = self._lu, self._generation
+
+        def border_solve() -> np.ndarray:
+            kept = self._border
+            if kept is None or kept[0] != generation or kept[1] is not c:
+                kept = self._border = (generation, c, lu.solve(c))
+            return kept[2]
+        return _bordered_inverse(lu, c, d, e, border_solve)
 
     def factor(self, A) -> float:
         t = time.perf_counter()
         self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
+        self._generation += 1
         self._stale = False
         self.stats["setups"] += 1
         self._base_iterations, self._excess_iterations = None, 0
@@ -181,7 +205,7 @@ class LUKrylovSolver:
         op = spla.LinearOperator((n + 1, n + 1), matvec=matvec, dtype=float)
         nb = float(np.linalg.norm(b))
         for _attempt in range(2):
-            M = spla.LinearOperator((n + 1, n + 1), matvec=_bordered_inverse(self._lu, c, d, e), dtype=float)
+            M = spla.LinearOperator((n + 1, n + 1), matvec=self._bordered(c, d, e), dtype=float)
             count = [0]
             t = time.perf_counter()
             x, code = spla.gmres(op, b, rtol=rtol, restart=40, maxiter=3, M=M,
