@@ -198,6 +198,7 @@ class SolverSpec:
     newton_atol: float
     newton_max_iterations: int
     krylov_rtol: float
+    factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
 
 
 @dataclass(frozen=True)
@@ -290,7 +291,7 @@ class Parameters:
                 linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),
                 newton_max_iterations=int(sol["newton_max_iterations"]),
-                krylov_rtol=float(sol["krylov_rtol"]),
+                krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
             ),
             config=config,
         )

@@ -8,6 +8,7 @@ from ..fem.quality import poorly_shaped_dofs
 from ..laws import analytic
 from ..params import Parameters
 from ..solvers.linsolve import choose_linear_solver, make_solver
+from .cost import check_factorization
 from .system import CapModel
 
 __all__ = ["cap_mesh_spec", "build_model"]
@@ -33,10 +34,11 @@ def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None
     linear solver ``solver`` (default: ``solver.linear``; 'auto' resolved by :func:`choose_linear_solver`) given
     the rigid-body modes as near-null space and, for AMG, the DOFs of the poorly shaped cells to solve exactly
     around each V-cycle."""
+    check_factorization(params)
     mesh = mesh or cap_mesh(cap_mesh_spec(params))
     mixed = params.mesh.formulation == "mixed"
     kind = choose_linear_solver(solver or params.solver.linear, mesh.n_dofs, mixed, params.solver.amg_above_dofs)
     exact = poorly_shaped_dofs(mesh.nodes, mesh.cells) if kind == "amg" else None
     linear = make_solver(kind, rtol=params.solver.krylov_rtol, near_null_space=rigid_body_modes(mesh.nodes),
-                         diagonal_pivoting=mixed, exact_dofs=exact)
+                         diagonal_pivoting=mixed, exact_dofs=exact, factorization=params.solver.factorization)
     return CapModel(mesh, params, linear)

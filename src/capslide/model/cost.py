@@ -13,8 +13,9 @@ from dataclasses import dataclass
 from ..config import ConfigError
 from ..fem.mesh import BandTooWide, CapMeshSpec, band_limit, cell_and_node_counts
 from ..params import Parameters
+from ..solvers.pardiso import mkl_runtime
 
-__all__ = ["Cost", "estimate", "check", "check_steps", "MEMORY_BASE_GB", "MEMORY_PER_DOF"]
+__all__ = ["Cost", "estimate", "check", "check_steps", "check_factorization", "MEMORY_BASE_GB", "MEMORY_PER_DOF"]
 
 # Measured by benchmarks/memory_per_dof.py (peak resident memory of short cases): the interpreter and libraries, and
 # the bytes per DOF above them at the largest measured mesh of each element (they grow slowly with the DOF).
@@ -91,7 +92,15 @@ def check(p: Parameters, spec: CapMeshSpec, steps: bool = True) -> Cost:
                           f"{limits['max_memory_gb']:g} (raise it to compute this mesh)")
     if steps:
         check_steps(p)
+        check_factorization(p)
     return cost
+
+
+def check_factorization(p: Parameters) -> None:
+    """ConfigError when ``solver.factorization`` names a library this Python environment lacks."""
+    if p.solver.factorization == "pardiso" and mkl_runtime() is None:
+        raise ConfigError("solver.factorization = 'pardiso' needs Intel MKL's runtime library, which this Python "
+                          "environment lacks: pip install mkl (x86-64 only), or use superlu")
 
 
 def check_steps(p: Parameters) -> None:

@@ -5,8 +5,9 @@
 Three kinds: ``amg`` (pyamg smoothed aggregation preconditioning CG or
 BiCGStab, :mod:`capslide.solvers.amg`), ``lu_krylov`` (a stored SuperLU
 factorization of an earlier matrix preconditioning GMRES, refactorized when
-iterations grow) and ``direct`` (a fresh SuperLU factorization per matrix, the
-reference and fallback); :func:`choose_linear_solver` resolves ``auto``.
+iterations grow; or MKL PARDISO's, :mod:`capslide.solvers.pardiso`) and
+``direct`` (a fresh SuperLU factorization per matrix, the reference and
+fallback); :func:`choose_linear_solver` resolves ``auto``.
 The true relative residual ||b - A x|| / ||b|| is computed after every solve;
 a solve whose Krylov method reports convergence but whose true residual is
 above 10 rtol counts as failed.
@@ -23,6 +24,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .amg import AMGSolver
+from .pardiso import PardisoFactors
 from .solve_info import LinearSolveError, SolveInfo
 from .solve_info import true_residual as _true_residual
 
@@ -97,7 +99,8 @@ class DirectSolver:
 
 @dataclass
 class LUKrylovSolver:
-    """GMRES preconditioned by the SuperLU factors of an earlier matrix.
+    """GMRES preconditioned by the LU factors of an earlier matrix: SuperLU's, or with ``factorization='pardiso'``
+    MKL PARDISO's, whose analysis is kept while the pattern stays (``diagonal_pivoting`` is SuperLU's only).
 
     The factorization is reused across Newton iterations and load steps and
     renewed when GMRES fails, and in :meth:`solve` when it needs more than
@@ -118,7 +121,9 @@ class LUKrylovSolver:
     hard_iteration_limit: int = 40
     permc_spec: str = "MMD_AT_PLUS_A"
     diagonal_pivoting: bool = False
+    factorization: str = "superlu"  # or 'pardiso': MKL PARDISO, its analysis kept while the pattern stays
     _lu: object = field(default=None, init=False, repr=False)
+    _pardiso: PardisoFactors | None = field(default=None, init=False, repr=False)
     _generation: int = field(default=0, init=False, repr=False)  # counts factorizations
     _border: tuple | None = field(default=None, init=False, repr=False)  # (generation, c, A0^{-1} c)
     _base_iterations: float | None = field(default=None, init=False, repr=False)
@@ -148,7 +153,14 @@ class LUKrylovSolver:
 
     def factor(self, A) -> float:
         t = time.perf_counter()
-        self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
+        if self.factorization == "pardiso":
+            if self._pardiso is not None and self._pardiso.same_pattern(A):
+                self._pardiso.refactor(A)  # numeric only
+            else:
+                self._pardiso = PardisoFactors(A)
+            self._lu = self._pardiso
+        else:
+            self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
         self._generation += 1
         self._stale = False
         self.stats["setups"] += 1
@@ -255,13 +267,14 @@ def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: in
 
 
 def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | None = None,
-                diagonal_pivoting: bool = False, exact_dofs: np.ndarray | None = None):
+                diagonal_pivoting: bool = False, exact_dofs: np.ndarray | None = None, factorization: str = "superlu"):
     """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes, and ``exact_dofs``, e.g. those
-    of the poorly shaped cells), 'lu_krylov' or 'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
+    of the poorly shaped cells), 'lu_krylov' (its factors from ``factorization``: 'superlu' or 'pardiso') or
+    'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
     if kind == "amg":
         return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol)
     if kind == "lu_krylov":
-        return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting)
+        return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting, factorization=factorization)
     if kind == "direct":
         return DirectSolver(diagonal_pivoting=diagonal_pivoting)
     raise ValueError(f"unknown linear solver {kind!r} (allowed: {', '.join(SOLVERS)}; 'auto' goes through "
