@@ -67,6 +67,20 @@ def _bordered_inverse(lu, c: np.ndarray, d: np.ndarray, e: float, border_solve=N
     return apply
 
 
+def _repeat_kept(apply):
+    """``apply`` that answers a call with the same vector as the call before from memory. SciPy's GMRES applies the
+    preconditioner twice to the right-hand side when it starts from zero (once for its norm, once for the first
+    Krylov vector), and each application is an LU solve: one of the 4-10 per Newton iteration."""
+    last = None
+
+    def kept(r: np.ndarray) -> np.ndarray:
+        nonlocal last
+        if last is None or not np.array_equal(last[0], r):
+            last = (np.array(r, copy=True), apply(r))
+        return last[1].copy()
+    return kept
+
+
 @dataclass
 class DirectSolver:
     """SciPy SuperLU (MMD on A^T + A ordering); a new factorization per matrix."""
@@ -174,7 +188,7 @@ class LUKrylovSolver:
             info.setup_time, info.rebuilt = self.factor(A), True
         for _attempt in range(2):
             lu = self._lu
-            M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
+            M = spla.LinearOperator(A.shape, matvec=_repeat_kept(lu.solve), dtype=float)
             t = time.perf_counter()
             X = np.empty_like(B2)
             iters, failed = 0, False
@@ -217,7 +231,7 @@ class LUKrylovSolver:
         op = spla.LinearOperator((n + 1, n + 1), matvec=matvec, dtype=float)
         nb = float(np.linalg.norm(b))
         for _attempt in range(2):
-            M = spla.LinearOperator((n + 1, n + 1), matvec=self._bordered(c, d, e), dtype=float)
+            M = spla.LinearOperator((n + 1, n + 1), matvec=_repeat_kept(self._bordered(c, d, e)), dtype=float)
             count = [0]
             t = time.perf_counter()
             x, code = spla.gmres(op, b, rtol=rtol, restart=40, maxiter=3, M=M,
