@@ -43,8 +43,8 @@ def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
 
 
 def _bordered_inverse(lu, c: np.ndarray, d: np.ndarray, e: float, border_solve=None):
-    """The exact inverse of [A0 c; d^T e] as a callable (n + 1 vectors), A0 the matrix of the SuperLU factors
-    ``lu``: one LU solve per application, and one for A0^{-1} c (``border_solve()``, default ``lu.solve(c)``) when
+    """The exact inverse of [A0 c; d^T e] as a callable (n + 1 vectors), A0 the matrix of the LU factors ``lu``:
+    one LU solve per application, and one for A0^{-1} c (``border_solve()``, default ``lu.solve(c)``) when
     first needed. With d = 0 (a fixed height) that is only for a vector whose last entry is not zero, which GMRES
     on a residual with G = 0 never makes; the result is the same bit for bit, as z - w 0 = z."""
     n = len(c)

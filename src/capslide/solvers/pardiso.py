@@ -5,7 +5,7 @@ The cap tangent's sparsity pattern never changes, so PARDISO's analysis
 (phase 11: nested-dissection ordering and symbolic factorization) runs once
 per pattern and each refactorization is numeric only (phase 22); solves are
 phase 33. On a paper case's tangent (19.5k DOF) the numeric phase takes
-25-40 ms against SuperLU's 85-140 ms, and a solve 4-6 ms against 3.4-6 ms
+25-40 ms against SuperLU's 75-140 ms, and a solve 4-6 ms against 3.4-6 ms
 (one thread; docs/performance.md).
 
 MKL is not a dependency: ``pip install mkl`` (x86-64) provides the runtime
@@ -14,8 +14,9 @@ real unsymmetric matrix (type 11), zero-based CSR indices, pivots perturbed
 to 1e-13 of the norm (a preconditioner need not be exact), no iterative
 refinement, and no scaling or weighted matching, so that the analysis depends
 on the pattern alone. PARDISO runs on one thread, whatever MKL_NUM_THREADS says:
-with more, the factors of the same matrix differed in the last bits between
-runs, and a resumed case must repeat the uninterrupted one bit for bit.
+with two, a fresh factorization and a refactorization of the same matrix
+differed in the last bits, and a resumed case must repeat the uninterrupted
+one bit for bit.
 """
 
 from __future__ import annotations
@@ -127,7 +128,7 @@ class PardisoFactors:
         return int(self._iparm[17])
 
     def same_pattern(self, A: sp.csr_matrix) -> bool:
-        return (A.shape == (self.n, self.n) and np.array_equal(A.indptr, self._indptr)
+        return (sp.issparse(A) and A.format == "csr" and A.shape == (self.n, self.n) and np.array_equal(A.indptr, self._indptr)
                 and np.array_equal(A.indices, self._indices))
 
     def refactor(self, A: sp.csr_matrix) -> None:
