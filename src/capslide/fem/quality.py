@@ -54,5 +54,5 @@ def dofs_of_cells(cells: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 def poorly_shaped_dofs(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
     """The DOFs of the poorly shaped cells at the default thresholds: what ``solver.linear: amg`` solves exactly
-    around each V-cycle."""
+    around each multigrid cycle."""
     return dofs_of_cells(cells, poorly_shaped_cells(nodes, cells))

@@ -33,7 +33,7 @@ def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None
     """The cap model of ``params`` on ``mesh`` (default: the graded cap mesh of :func:`cap_mesh_spec`), with the
     linear solver ``solver`` (default: ``solver.linear``; 'auto' resolved by :func:`choose_linear_solver`) given
     the rigid-body modes as near-null space and, for AMG, the DOFs of the poorly shaped cells to solve exactly
-    around each V-cycle."""
+    around each multigrid cycle."""
     check_factorization(params)
     mesh = mesh or cap_mesh(cap_mesh_spec(params))
     mixed = params.mesh.formulation == "mixed"
