@@ -10,7 +10,7 @@ iterations at 12k DOF and 474 at 577k (issue 3). The slow modes live in the
 poorly shaped cells (:mod:`capslide.fem.quality`): the near-180-degree cells
 at the logical corners of the mesh and the flat cells outside the contact
 band. Three measures keep the iteration count nearly mesh-independent (Q2: 29
-at 24k DOF, 32 at 1M; Q1: 13 at 12k, 17 at 1M; docs/performance.md, issue 19):
+at 24k DOF, 32 at 1M; Q1: 13 at 12k, 18 at 1M; docs/performance.md, issue 19):
 - the options :data:`SETTINGS`: evolution strength of connection, which
   follows the anisotropy, and energy-minimizing prolongation (Olson,
   Schroder and Tuminaro, Numer. Linear Algebra Appl. 17 (2010) 713 and
