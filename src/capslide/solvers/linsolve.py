@@ -271,9 +271,9 @@ def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: in
     On the graded cap meshes, 12k to 2.1M DOF, a SuperLU factorization plus
     solve takes 6 to 11 times less time than one AMG setup plus W-cycle solve,
     and the factors are reused over many Newton iterations; AMG's memory is
-    0.77-0.81x of the factors' (docs/performance.md, issue 19). The default limit is the
-    largest size measured; it is counted in DOF so that every machine chooses
-    the same.
+    0.77-0.81x of the factors' (docs/performance.md, issue 19). The default
+    limit is the largest size measured; it is counted in DOF so that every
+    machine chooses the same.
     """
     if kind != "auto":
         return kind
