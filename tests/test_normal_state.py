@@ -168,7 +168,7 @@ def state_file(base, tmp_path_factory):
 def test_a_state_for_another_configuration_is_refused_naming_the_key(base, state_file):
     with pytest.raises(NormalStateError, match=r"mesh.size = 32.0 there, 16.0 here"):
         read_normal_state(state_file, apply_settings(base, {"mesh.size": 16.0}))
-    with pytest.raises(NormalStateError, match=r"\(friction\.DI_area = None there, .current. here\)"):
+    with pytest.raises(NormalStateError, match=r"\(friction\.active_from = .slide. there, .contact. here\)"):
         read_normal_state(state_file, apply_settings(base, {"friction.active_from": "contact"}))
     read_normal_state(state_file, apply_settings(base, {"friction.model": "EA"}))  # slide-only: accepted
 

@@ -12,6 +12,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from .config import ConfigError
 
 __all__ = [
@@ -201,6 +203,20 @@ class SolverSpec:
     factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
 
 
+def _check_path_time(L: Loading, velocity_si: float | None) -> None:
+    """ConfigError when the stage's speed makes the path's times (s) overflow: every leg's length (L0) over the
+    speed (L0/s), and the dwell, must add up to a finite time."""
+    if L.velocity is None:
+        return
+    length = (L.approach_start_gap + L.approach_edge_step + abs(L.ubar_max) * (2.0 if L.slide_back else 1.0)
+              + 2.0 * (abs(L.retract_from) + abs(L.preload) + sum(abs(v) for v in L.preload_via)) + 1.0)
+    with np.errstate(over="ignore", divide="ignore"):
+        total = np.float64(length) / np.float64(L.velocity) + L.dwell
+    if not (L.velocity > 0.0 and math.isfinite(total)):
+        raise ConfigError(f"loading.velocity = {velocity_si!r} is not allowed: the path of about {length:.3g} L0 would "
+                          "take an infinite time at it (give a speed whose times are finite)")
+
+
 @dataclass(frozen=True)
 class Parameters:
     """Everything a computation needs, in internal units, plus the config."""
@@ -251,6 +267,23 @@ class Parameters:
             slip_weakening_distance=float(fr["slip_weakening_distance"]),
             active_from=fr["active_from"],
         )
+        loading = Loading(
+            preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),
+            approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
+            approach_end_gap=load["approach_end_gap_over_g_eq"] * c["g_eq"],
+            approach_step=load["approach_step_over_r0"] * c["r0"],
+            approach_edge_step=float(load["approach_edge_step"]),
+            force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
+            retract_from=float(load["retract_from"]),
+            slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
+            min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
+            slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
+            normal_control=load["normal_control"],
+            spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
+            velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
+            dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
+        )
+        _check_path_time(loading, load["velocity"])
         return cls(
             units=units,
             material=Material(E=1.0, nu=float(mat["nu"]), lam=lam, mu=mu,
@@ -271,22 +304,7 @@ class Parameters:
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
                 max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
             ),
-            loading=Loading(
-                preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),
-                approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
-                approach_end_gap=load["approach_end_gap_over_g_eq"] * c["g_eq"],
-                approach_step=load["approach_step_over_r0"] * c["r0"],
-                approach_edge_step=float(load["approach_edge_step"]),
-                force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
-                retract_from=float(load["retract_from"]),
-                slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
-                min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
-                slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
-                normal_control=load["normal_control"],
-                spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
-                velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
-                dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
-            ),
+            loading=loading,
             solver=SolverSpec(
                 linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),

@@ -63,6 +63,7 @@ rule normal_state:
         overrides=lambda wildcards: set_args(
             {"loading.preload": STATE_PRELOADS[wildcards.preload]}
         ),
+        code=SOURCE_DIGEST,  # a change of the code reruns the states (Snakemake's params trigger)
         start=lambda wildcards, input: (
             f"--from-state {input.previous}" if input.previous else ""
         ),

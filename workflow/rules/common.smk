@@ -18,6 +18,7 @@ from capslide.config import (
 )
 from capslide.loadpath.preload_targets import previous_target
 from capslide.studies.expansion import check_runs, runs, shares_normal_state
+from capslide.version import source_digest
 from snakemake.exceptions import WorkflowError
 
 # --config NAME=VALUE of this run (Snakemake reads nested values as strings): typed again, applied here, and passed
@@ -41,6 +42,9 @@ os.environ.update(
     PATH=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
 )
 CAPSLIDE = "capslide"
+# The digest of the package's source: normal states carry it as a parameter, so that Snakemake reruns them (and the
+# cases that start from them) when the code that computes them changes.
+SOURCE_DIGEST = source_digest()
 # With --sdm conda every rule runs in workflow/envs/capslide.yaml, capslide from this checkout's src/.
 ENV = "../envs/capslide.yaml"
 if "conda" in {str(m).lower() for m in workflow.deployment_settings.deployment_method}:

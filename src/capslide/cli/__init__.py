@@ -45,7 +45,7 @@ def _add_path_args(p: argparse.ArgumentParser, output: str, output_help: str, fr
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="capslide", description="capslide: finite element simulations of a soft adhesive cap sliding "
                      "on a rigid substrate (Mergel et al. 2019). Exit codes: 0 done, 2 bad input, 3 contact detached, "
-                     "4 no equilibrium found, 130 interrupted.")
+                     "4 no equilibrium found, 5 a slide with slip weakening snapped, 130 interrupted.")
     parser.add_argument("--version", action="version", version=f"capslide {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 

@@ -68,16 +68,29 @@ def cmd_mesh(args) -> int:
 
 def _run_checkpointed(params, output: Path, args, start=None, stop_before: str = "done"):
     """Run a case (from ``start``, a saved path, when there is no usable checkpoint) with checkpoints beside
-    ``output`` (``--resume`` continues one), progress and the interrupt test hook; the case result."""
+    ``output`` (``--resume`` continues one), progress and the interrupt test hook; the case result. A checkpoint
+    that cannot be used starts the case afresh (one line); a ``start`` that does not fit the model is an
+    InputError. An interrupted run removes a checkpoint it never saved to, and names one it did."""
     from ..driver.case import run_case
-    from ..io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWriter, checkpoint_path, config_text, load_checkpoint
+    from ..io.checkpoint import (
+        STATE,
+        CheckpointBusy,
+        CheckpointError,
+        CheckpointWriter,
+        checkpoint_path,
+        config_text,
+        load_checkpoint,
+    )
+    from ..io.state_check import SavedStateMismatch
 
     output.parent.mkdir(parents=True, exist_ok=True)
     every = int(params.config["output"]["checkpoint_every"])
     path = checkpoint_path(output)
     text = config_text(params.config)
     saved, writer = start, None
-    if args.resume and path.exists():
+    if args.resume and path.is_dir() and not (path / STATE).exists():
+        print(f"capslide: checkpoint '{path}' holds no saved step yet; starting afresh", file=sys.stderr)
+    elif args.resume and path.exists():
         try:
             saved = load_checkpoint(path, text)
             print(f"capslide: resuming from {path} ({len(saved.records)} converged steps)", file=sys.stderr)
@@ -93,11 +106,37 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
         signum = signal.Signals[f"SIG{os.environ.get(INTERRUPT_SIGNAL, 'INT')}"]
         interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)
         observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), interrupt))
-    result = run_case(params, observers=observers, checkpoint=writer, resume=saved, stop_before=stop_before)
+    run = lambda resume: run_case(params, observers=observers, checkpoint=writer, resume=resume,  # noqa: E731
+                                  stop_before=stop_before)
+    try:
+        try:
+            result = run(saved)
+        except SavedStateMismatch as err:
+            if saved is start:  # the normal state given: refused
+                raise InputError(str(err)) from None
+            print(f"capslide: {err}; starting afresh", file=sys.stderr)
+            result = run(start)
+    except SavedStateMismatch as err:
+        raise InputError(str(err)) from None
+    except KeyboardInterrupt:
+        _interrupted(writer, path)
+        raise
+    finally:
+        if writer is not None and not (path / STATE).exists():
+            writer.remove()  # nothing saved: no empty checkpoint stays behind
     for obs in observers:
         if isinstance(obs, ProgressDisplay):
             obs.close()
     return result, writer
+
+
+def _interrupted(writer, path: Path) -> None:
+    """Name the checkpoint an interrupted run leaves, and how to continue it."""
+    from ..io.checkpoint import STATE
+
+    if writer is not None and (path / STATE).exists():
+        print(f"capslide: the checkpoint '{path}' is kept; the same command with --resume continues from it",
+              file=sys.stderr)
 
 
 def _read_state(read, path: str, config):

@@ -40,8 +40,12 @@ def cmd_verify(args) -> int:
     if args.scene is not None and args.scene != scene:
         raise InputError(f"--scene = {args.scene!r} does not match the config: contact.repulsion_only = "
                          f"{params.contact.repulsion_only} makes it a {scene} scene")
-    if not params.config["verification"]["loads"]:
+    loads = params.config["verification"]["loads"]
+    if not loads:
         raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
+    if scene == "hertz" and min(loads) <= 0.0:
+        raise InputError(f"verification.loads = {loads!r} is not allowed with the hertz scene: every load must be "
+                         "compressive (P > 0; at P <= 0 a Hertz contact has no width to compare)")
     (output,) = check_outputs([args.output], {"csv"})
     progress = None if args.quiet else ProgressDisplay()
     try:
@@ -83,11 +87,14 @@ def cmd_stability(args) -> int:
 
 def cmd_pull_off(args) -> int:
     """Write a config overlay whose loading.preload is a fraction of the pull-off force of a case file."""
-    from ..studies.stability import pull_off_preload
+    from ..studies.stability import detached_in_preload, pull_off_preload
 
     if not 0.0 < args.fraction <= 1.0:
         raise InputError(f"--fraction = {args.fraction!r} is not allowed: must be > 0 and <= 1")
     (output,) = check_outputs([args.output], {"yaml"})
+    detached = detached_in_preload(args.file)
+    if detached is not None:
+        raise InputError(f"'{args.file}' {detached}: pull-off needs a case that detached in its preload")
     preload = pull_off_preload(args.file, args.fraction)
     if math.isnan(preload):  # the file reached no preload
         raise InputError(f"'{args.file}' has no preload steps: no pull-off force to take a fraction of")

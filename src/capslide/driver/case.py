@@ -14,7 +14,8 @@ import numpy as np
 
 from ..fem.mesh import Mesh
 from ..io.checkpoint import CheckpointWriter, SavedCase
-from ..loadpath.cap import PathEnd, PathState, initial_state, load_path
+from ..io.state_check import SavedStateMismatch, shape_problem
+from ..loadpath.cap import PathEnd, PathState, after_normal_state, initial_state, load_path
 from ..loadpath.continuation import Notice, Returning
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
 from ..model import cost
@@ -58,7 +59,8 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     every ``checkpoint_every`` steps (default ``output.checkpoint_every``); ``resume`` continues a saved case (a
     checkpoint, or a normal state: a saved path that ended there ends the case the same way). The path stops
     before the leg ``stop_before`` (``"dwell"``: a normal state). A configuration beyond ``limits`` is refused
-    before anything is computed (ConfigError, see :mod:`capslide.model.cost`), and a case that takes more than
+    before anything is computed (ConfigError, see :mod:`capslide.model.cost`), as is a ``resume`` whose arrays do not
+    fit the model (SavedStateMismatch naming the file and field), and a case that takes more than
     ``limits.max_steps`` steps ends diverged.
     """
     if mesh is None:
@@ -68,6 +70,8 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     else:
         cost.check_steps(params)
     model = build_model(params, mesh)
+    if resume is not None and (problem := shape_problem(resume, model.saved_shapes())) is not None:
+        raise SavedStateMismatch(f"{resume.source or 'saved state'}: {problem}")  # before anything is computed
     wanted = snapshot_positions(params)
     records = list(resume.records) if resume is not None else []
     snapshots = list(resume.snapshots) if resume is not None else []
@@ -81,7 +85,7 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     if checkpoint is not None:
         every = params.config["output"]["checkpoint_every"] if checkpoint_every is None else checkpoint_every
         watching.append(Checkpointing(checkpoint, every, model, records, snapshots, clock))
-    state = resume.state if resume is not None else initial_state(model)
+    state = after_normal_state(model, resume.state) if resume is not None else initial_state(model)
     if resume is not None and resume.ended is not None:
         end = PathEnd(*resume.ended, state.x, *state.totals(), state.leg)
     else:

@@ -38,8 +38,9 @@ from ..model.system import History
 from ..states import Phase, Status
 from ..version import software_version
 from .atomic import replacing
+from .state_check import check_arrays, check_header, check_record_arrays, check_snapshot_arrays
 
-__all__ = ["SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
+__all__ = ["STATE", "SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
            "load_checkpoint", "write_arrays", "read_arrays", "array_sha", "record_arrays", "records_of", "state_arrays",
            "path_state", "write_signed", "read_signed"]
 
@@ -63,6 +64,7 @@ class SavedCase:
     snapshots: list[Snapshot]
     elapsed: float  # wall time of the case before this process (s)
     ended: tuple[Status, str] | None = None  # a path that ended there (a failed preload): status and reason
+    source: str = ""  # the file it was read from, as messages name it ("checkpoint 'PATH'")
 
 
 def checkpoint_path(output: str | Path) -> Path:
@@ -116,6 +118,8 @@ def read_signed(path: Path, what: str, error: type[Exception]) -> tuple[dict[str
     if hashlib.sha256(text.encode()).hexdigest() != str(data.pop("header_sha256")):
         raise error(f"{what} '{path}' does not match its checksum")
     meta = json.loads(text)
+    if not isinstance(meta, dict):
+        raise error(f"{what} '{path}': field 'header' is a {type(meta).__name__}, not a mapping")
     if meta.get("version") != software_version():
         raise error(f"{what} '{path}' was written by capslide {meta.get('version')}, this is {software_version()}")
     if array_sha(*(data[k] for k in sorted(data))) != meta.get("arrays_sha256"):
@@ -130,7 +134,8 @@ def read_guarded(load, path: Path, what: str, error: type[Exception]):
         return load()
     except error:
         raise
-    except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, json.JSONDecodeError) as err:
+    except (OSError, EOFError, ValueError, KeyError, TypeError, IndexError, AttributeError, zipfile.BadZipFile,
+            json.JSONDecodeError) as err:  # an empty file: EOFError; a header of another shape: AttributeError
         raise error(f"cannot read {what} '{path}': {err}") from None
 
 
@@ -141,6 +146,8 @@ def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
 
 
 def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
+    """The step records of :func:`record_arrays`' arrays, checked first (BadField naming a field)."""
+    check_record_arrays(data, "record_")
     out = []
     for i in range(len(data["phase"])):
         kw = {name: float(data[name][i]) for name in RECORD_SCALARS if name in data}  # older files: no time
@@ -181,7 +188,9 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
 
 
 def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
-    """The path state of :func:`state_arrays`' arrays and header entries."""
+    """The path state of :func:`state_arrays`' arrays and header entries, both checked first (BadField naming a
+    field)."""
+    check_arrays(data, meta)
     lm = meta["loop"]
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
@@ -257,6 +266,7 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
     if not path.is_dir():
         raise CheckpointError(f"checkpoint '{path}' is not a checkpoint directory")
     data, meta = read_signed(path / STATE, "checkpoint", CheckpointError)
+    check_header(meta, "checkpoint")
     if meta.get("config_sha256") != hashlib.sha256(config_yaml.encode()).hexdigest():
         raise CheckpointError(f"checkpoint '{path}' was written for a different configuration")
     records, snapshots = [], []
@@ -265,8 +275,9 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
         if chunk["kind"] == "records":
             records += records_of(part)
         else:
+            check_snapshot_arrays(part)
             snapshots += [Snapshot(float(u), part["u"][k], part["I1_sigma"][k]) for k, u in enumerate(part["ubar"])]
-    return SavedCase(path_state(data, meta), records, snapshots, meta["elapsed"])
+    return SavedCase(path_state(data, meta), records, snapshots, meta["elapsed"], source=f"checkpoint '{path}'")
 
 
 def load_checkpoint(path: str | Path, config_yaml: str) -> SavedCase:

@@ -23,6 +23,7 @@ from typing import Any
 from ..config import flatten
 from ..states import Status
 from .checkpoint import SavedCase, path_state, read_guarded, read_signed, record_arrays, records_of, state_arrays, write_signed
+from .state_check import check_header
 
 __all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
            "read_normal_state", "read_normal_state_at_any_preload"]
@@ -76,16 +77,21 @@ def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> N
 
 
 def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
-    for key in sorted(set(saved) | set(own)):
-        if saved.get(key) != own.get(key):
-            return f"{key} = {saved.get(key)!r} there, {own.get(key)!r} here"
+    """The first key whose value differs; friction.active_from first, which decides whether the friction keys
+    belong to the normal configuration at all (absent: 'slide', its default)."""
+    absent = {"friction.active_from": "slide"}
+    for key in sorted(set(saved) | set(own) | set(absent), key=lambda k: (k != "friction.active_from", k)):
+        there, here = saved.get(key, absent.get(key)), own.get(key, absent.get(key))
+        if there != here:
+            return f"{key} = {there!r} there, {here!r} here"
     return "none"
 
 
 def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:
     data, meta = read_signed(path, "normal state", NormalStateError)
-    if meta.get("format") != FORMAT:
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
+    check_header(meta, "normal state")
     theirs, own = json.loads(meta["normal_config"]), normal_config(config)
     preload = float(theirs["loading.preload"])
     if any_preload:
@@ -96,7 +102,7 @@ def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, fl
     records = records_of({k.removeprefix("record_"): v for k, v in data.items() if k.startswith("record_")})
     status = Status(meta["status"])
     ended = None if status == Status.COMPLETED else (status, meta["reason"])
-    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended), preload
+    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended, f"normal state '{path}'"), preload
 
 
 def _read(path: str | Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:

@@ -44,8 +44,8 @@ from .measures import StepRecord, fully_sliding
 from .preload_targets import preload_targets
 from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check, steady_sliding
 
-__all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "approach_control",
-           "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
+__all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "after_normal_state",
+           "approach_control", "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
            "preload_targets", "continued_from", "slide_constraint", "snap_check"]
 
 LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
@@ -175,6 +175,8 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
             _finish_leg(model, state, after)
         yield PathStep(conv.record, conv.x, conv.breakpoint, state,
                        last=conv.end is not None and conv.end.status != Status.COMPLETED)
+    if run.value.status == Status.COMPLETED and state.loop is not None:  # a leg of zero length: no step, skipped
+        _finish_leg(model, state, after)
     return run.value
 
 
@@ -339,16 +341,42 @@ _LEG_RUNNERS = {"approach": _approach, "spread": _spread, "preload": _preload, "
                 "slide back": _slide_back}
 
 
+def after_normal_state(model: CapModel, state: PathState) -> PathState:
+    """``state`` with its next leg set by ``model``'s own loading when the path stands just after its last preload
+    step (a normal state, computed with another dwell or ubar_max): a dwell when this case asks for one, then the
+    slide; unchanged elsewhere."""
+    preloaded = (state.loop is None and not state.targets and state.leg in ("dwell", "slide", "done")
+                 and bool(state.marks) and state.marks[-1].phase == Phase.PRELOAD)
+    if preloaded:
+        state.leg = _after_preload(model)
+    return state
+
+
+def _counted(steps: Generator, seen: list[int]) -> Generator:
+    """``steps`` relayed, with the converged ones counted in ``seen[0]``."""
+    run = Returning(steps)
+    for step in run:
+        if isinstance(step, PathStep):
+            seen[0] += 1
+        yield step
+    return run.value
+
+
 def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
               stop_before: str = "done") -> Generator[PathStep, None, PathEnd]:
     """Converged steps of the cap's load path from ``start`` (default: :func:`initial_state`) until the leg
     ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
-    how the path ended."""
-    state = start if start is not None else initial_state(model)
+    how the path ended. A leg that ends without a step and leaves the path where it was ends it diverged (no
+    loop repeats without progress)."""
+    state = after_normal_state(model, start) if start is not None else initial_state(model)
     while LEGS.index(state.leg) < LEGS.index(stop_before):
         if state.loop is None:  # every leg starts with a fresh factorization: a leg repeats the same arithmetic
             model.solver.invalidate()  # whether the path ran up to it or starts there from a saved state
-        end = yield from _LEG_RUNNERS[state.leg](model, state, snapshot_ubar)
+        where, seen = (state.leg, len(state.targets), state.loop is None), [0]
+        end = yield from _counted(_LEG_RUNNERS[state.leg](model, state, snapshot_ubar), seen)
         if end.status != Status.COMPLETED:
             return PathEnd(end.status, end.reason, state.x, *state.totals(), state.leg)
+        if not seen[0] and (state.leg, len(state.targets), state.loop is None) == where:
+            return PathEnd(Status.DIVERGED, f"{state.leg}: the leg ended without a step and the path did not move on",
+                           state.x, *state.totals(), state.leg)
     return PathEnd(Status.COMPLETED, "", state.x, *state.totals(), state.leg)

@@ -159,13 +159,20 @@ def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
     return out
 
 
+ROUND_OFF = 1e-9  # relative changes of area and height at or below this are round-off, not a trend
+
+
 def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
     """A slide that lost its equilibrium under a tensile load while the contact peeled: over the last ``n`` slide
-    steps the contact area shrank and the substrate rose at every step. Shear-induced pull-off: the contact's
-    pull-off force fell below the applied Fn (as in the paper's experiments, where small contacts vanish on
-    shearing)."""
+    steps the contact area shrank and the substrate rose at every step by more than round-off, and in the last step
+    the contact's width shrank faster than the stage moved (|d area / d ubar| > 1): the approach to a fold, where
+    that rate grows without bound. Shear-induced pull-off: the contact's pull-off force fell below the applied Fn
+    (as in the paper's experiments, where small contacts vanish on shearing). A contact that shrinks slowly under
+    the growing shear (|d area / d ubar| about 0.4 before a slip-weakening snap) is not peeling."""
     last = [r for r in records[-n:] if r.phase == Phase.SLIDE]
     if Fn <= 0.0 or len(last) < n:
         return False
-    area, h = np.array([r.area for r in last]), np.array([r.h for r in last])
-    return bool(np.all(np.diff(area) < 0) and np.all(np.diff(h) > 0))
+    area, h, ubar = (np.array([getattr(r, k) for r in last]) for k in ("area", "h", "ubar"))
+    dA, dh, du = np.diff(area), np.diff(h), np.diff(ubar)
+    trend = np.all(dA < -ROUND_OFF * area[1:]) and np.all(dh > ROUND_OFF * np.maximum(1.0, np.abs(h[1:])))
+    return bool(trend and abs(dA[-1]) > abs(du[-1]))

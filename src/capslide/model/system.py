@@ -184,6 +184,21 @@ class CapModel:
         z, _ = self.solver.solve(solve.K, solve.c)
         return float(solve.e - solve.d @ z)
 
+    def saved_shapes(self) -> dict[str, tuple[int, ...]]:
+        """The shapes of the arrays a saved state of this model holds (capslide.io.state_check): the state [u, h],
+        the friction history per surface point, the pressure multiplier, the viscous branches' networks, a step
+        record's surface profile and base reaction, a snapshot's nodal displacements and cell invariant."""
+        points, n_dofs = self.contact.quad.X.shape[:-1], self.n_dofs + 1
+        shapes = {"x": (n_dofs,), "loop_x": (n_dofs,), "loop_x_prev": (n_dofs,), "anchors": points,
+                  "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (2,),
+                  "snapshot_u": (self.mesh.n_nodes, 2), "snapshot_I1_sigma": (self.mesh.n_cells,)}
+        if self.params.mesh.formulation == "mixed":
+            shapes["pressure_multiplier"] = (self.mesh.n_cells, 3)
+        if self.branches is not None:
+            qp = self.bulk.wdetJ.shape
+            shapes.update(viscous_networks=(*qp, len(self.branches.g), 2, 2), viscous_c_inv=(*qp, 2, 2))
+        return shapes
+
     # -- friction history ---------------------------------------------------
     def start_friction(self, x: np.ndarray, ubar: float = 0.0, history: History | None = None) -> History:
         """``history`` (default: none) with every surface point anchored where it is (friction acts from here on)."""

@@ -21,6 +21,8 @@ import yaml
 
 from ..config import ConfigError, apply_settings, check_finite, check_schema, load_yaml, merge, schema, validate
 from ..io.normal_state import normal_config
+from ..model import cost
+from ..params import Parameters
 from . import convergence
 
 __all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
@@ -134,6 +136,8 @@ def check_runs(run_overrides: Mapping[str, Mapping], config_files: Iterable[str 
         if run in skip:
             continue
         try:
-            validate(apply_settings(base, sets))
+            config = validate(apply_settings(base, sets))
+            if config["solver"]["factorization"] != "superlu":  # a library this Python may lack: refused now
+                cost.check_factorization(Parameters.from_config(config))
         except ConfigError as err:
             raise ConfigError(f"run {run}: {err}") from None

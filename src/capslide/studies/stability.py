@@ -31,7 +31,7 @@ from ..io.reading import ResultFileError, open_result
 from ..model import cost
 from ..model.build import cap_mesh_spec
 from ..params import Parameters
-from ..states import Phase
+from ..states import Phase, Status
 
 __all__ = ["CHECKS", "check", "pull_off_force", "pull_off_preload", "case_arrays", "evaluate", "TABLE_COLUMNS",
            "markdown_table"]
@@ -49,6 +49,17 @@ def pull_off_preload(case_file: str | Path, fraction: float) -> float:
     """``fraction`` of the pull-off force of a case file (rounded to 1e-6: a preload for a config overlay)."""
     ds = open_result(case_file, "case")
     return round(float(fraction) * pull_off_force(ds["phase"].values, ds["Fn"].values), 6)
+
+
+def detached_in_preload(case_file: str | Path) -> str | None:
+    """None when the case file ended detached in its preload (its pull-off force is the preload's last force);
+    otherwise how it ended instead."""
+    ds = open_result(case_file, "case")
+    status, phases = str(ds.attrs.get("status")), ds["phase"].values
+    last = Phase(int(phases[-1])).label if len(phases) else "no step"
+    if status == Status.DETACHED.label and last == Phase.PRELOAD.label:
+        return None
+    return f"ended {status} in its {last}" if len(phases) else f"ended {status} with no step"
 
 
 def case_arrays(path: str | Path) -> dict:
