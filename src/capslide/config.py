@@ -12,6 +12,7 @@ and what is allowed.
 from __future__ import annotations
 
 import copy
+import difflib
 import functools
 import json
 import math
@@ -67,9 +68,33 @@ def schema() -> dict:
     return yaml.safe_load(text)
 
 
-def load_yaml(path: str | Path) -> dict:
-    """Read one YAML mapping from ``path``; errors name the file."""
+def scenes() -> list[str]:
+    """The names of the packaged scenes (``capslide/scenes/NAME.yaml``): complete configurations to start from."""
+    folder = resources.files("capslide").joinpath("scenes")
+    return sorted(p.name.removesuffix(".yaml") for p in folder.iterdir() if p.name.endswith(".yaml"))
+
+
+def scene_path(name: str) -> Path:
+    """The file of the packaged scene ``name``; ConfigError naming the scenes (and the closest one) otherwise."""
+    if name not in scenes():
+        close = difflib.get_close_matches(name, scenes(), n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
+        raise ConfigError(f"scene = {name!r} is not allowed: must be one of the packaged scenes ({', '.join(scenes())})"
+                          f"{hint}")
+    return Path(str(resources.files("capslide").joinpath("scenes", f"{name}.yaml")))
+
+
+def _config_file(path: str | Path) -> Path:
+    """``path`` itself, or the packaged scene it names: a bare name (no folder, no suffix) that is not a file here."""
     path = Path(path)
+    if path.suffix == "" and path.parent == Path(".") and not path.exists():
+        return scene_path(path.name)
+    return path
+
+
+def load_yaml(path: str | Path) -> dict:
+    """Read one YAML mapping from ``path`` (or the packaged scene it names); errors name the file."""
+    path = _config_file(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as err:
@@ -204,7 +229,9 @@ def _message(err: jsonschema.ValidationError) -> str:
         allowed = sorted(spec.get("properties", {}))
         extra = sorted(set(err.instance) - set(allowed))
         where = f"{key}." if err.absolute_path else ""
-        return f"unknown key '{where}{extra[0]}' (allowed here: {', '.join(allowed)})"
+        close = difflib.get_close_matches(str(extra[0]), allowed, n=1)
+        hint = f"; did you mean '{where}{close[0]}'?" if close else ""
+        return f"unknown key '{where}{extra[0]}' (allowed here: {', '.join(allowed)}){hint}"
     if err.validator == "required":
         missing = err.message.split("'")[1]
         where = f"{key}." if err.absolute_path else ""
@@ -290,7 +317,7 @@ def validate(config: Mapping) -> dict:
 def load_config(paths: Iterable[str | Path], overrides: Iterable[str] = (),
                 settings: Mapping[str, Any] | None = None) -> dict:
     """Read, merge (in order), change by ``settings`` (dotted key -> value) and ``overrides`` (``key=value``
-    strings, applied last), and validate configuration files."""
+    strings, applied last), and validate configuration files; a bare name (``"cap"``) is a packaged scene."""
     config: dict = {}
     for path in paths:
         config = merge(config, load_yaml(path))

@@ -52,11 +52,12 @@ if "conda" in {str(m).lower() for m in workflow.deployment_settings.deployment_m
 # The config files of this run in merge order: the Snakefile's default, then --configfile files; relative to
 # the working directory where they are inside it (Snakemake hands them over absolute), so that no log, result
 # or report names a local path.
+# Each file once, named by the path given (config/ links to the packaged scenes in src/capslide/scenes/).
 _default = Path(DEFAULT_CONFIG).resolve()
 CONFIG_FILES = [DEFAULT_CONFIG] + [
     str(p.relative_to(Path.cwd())) if p.is_relative_to(Path.cwd()) else str(p)
-    for p in dict.fromkeys(Path(f).resolve() for f in workflow.configfiles)
-    if p != _default
+    for p in dict.fromkeys(Path(os.path.abspath(f)) for f in workflow.configfiles)
+    if p.resolve() != _default
 ]
 # (inlined into shell templates, which Snakemake formats: braces of JSON values doubled)
 CONFIG_ARGS = (

@@ -58,9 +58,10 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_args(p)
     p.set_defaults(func=cmd_constants)
 
-    p = sub.add_parser("figure", help=FIGURE_HELP)
-    p.add_argument("name", help="figure name")
-    p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) (model figures)")
+    p = sub.add_parser("figure", help=FIGURE_HELP, description=f"capslide figure: {FIGURE_HELP}")
+    p.add_argument("name", help="figure name (listed above)")
+    p.add_argument("configs", nargs="*", metavar="CONFIG", help="YAML config file(s) or scene names (model figures)")
+    p.add_argument("--scene", metavar="NAME", help="start from the packaged scene NAME (model figures)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help="config override")
     p.add_argument("--input", metavar="FILE.nc", help="result file to draw from (cap_setup: a mesh file)")
     p.add_argument("--table", dest="tables", action="append", default=[], metavar="FILE.csv",
@@ -81,9 +82,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_preload)
 
     p = sub.add_parser("verify", help="sweep a Hertz/JKR verification scene, write a CSV table of errors")
-    add_config_args(p)
-    p.add_argument("--scene", choices=("hertz", "jkr"),
-                   help="the scene the config must be (default: from the config; hertz = contact.repulsion_only)")
+    add_config_args(p, scene_help="start from the packaged scene NAME (hertz, jkr); the configuration must be that "
+                    "kind of scene (hertz = contact.repulsion_only)")
     p.add_argument("-o", "--output", required=True, metavar="TABLE.csv", help="the table of FE against closed forms")
     p.add_argument("-q", "--quiet", action="store_true")
     p.set_defaults(func=cmd_verify)

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..driver.observers import AfterSteps
 from ..io.reading import kind_of, open_result
-from .common import EXIT_STATUS, InputError, check_outputs, command_line, parameters
+from .common import EXIT_STATUS, InputError, check_outputs, command_line, config_sources, parameters
 from .progress import ProgressDisplay
 
 __all__ = ["cmd_config", "cmd_constants", "cmd_mesh", "cmd_run", "cmd_preload", "cmd_collect", "cmd_inspect",
@@ -32,7 +32,7 @@ def cmd_config(args) -> int:
     from ..config import load_config
     from .common import write_text_atomic
 
-    config = load_config(args.configs, args.overrides)
+    config = load_config(config_sources(args), args.overrides)
     text = f"# {command_line()}\n" + yaml.safe_dump(config, sort_keys=False)
     if args.output is None:
         print(text, end="")

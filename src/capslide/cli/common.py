@@ -9,12 +9,13 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..config import load_config
+from ..config import load_config, scene_path
 from ..io.atomic import replacing
 from ..params import Parameters
 from ..states import Status
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_STATUS", "InputError", "add_config_args", "command_line", "parameters",
+__all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_STATUS", "InputError", "add_config_args", "config_sources", "command_line",
+           "parameters",
            "check_outputs", "write_text_atomic", "csv_text"]
 
 EXIT_BAD_INPUT = 2
@@ -26,10 +27,21 @@ class InputError(ValueError):
     """Bad command-line input other than the configuration."""
 
 
-def add_config_args(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("configs", nargs="+", metavar="CONFIG", help="YAML config file(s), later ones update earlier ones")
+def add_config_args(parser: argparse.ArgumentParser, scene_help: str | None = None) -> None:
+    parser.add_argument("configs", nargs="*", metavar="CONFIG",
+                        help="YAML config file(s) or packaged scene name(s), later ones update earlier ones")
+    parser.add_argument("--scene", metavar="NAME", help=scene_help or "start from the packaged scene NAME (cap: the "
+                        "paper's study; hertz, jkr: verification), the config files update it")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a config value by its dotted key, e.g. --set friction.s_cut=0 (repeatable)")
+
+
+def config_sources(args) -> list[str]:
+    """The packaged scene of ``--scene`` (if any), then the config files: what ``args`` configures from."""
+    sources = ([scene_path(args.scene)] if args.scene else []) + list(args.configs)
+    if not sources:
+        raise InputError("no configuration: give a config file or a packaged scene (--scene cap)")
+    return sources
 
 
 def command_line() -> str:
@@ -42,7 +54,7 @@ def command_line() -> str:
 
 
 def parameters(args) -> Parameters:
-    return Parameters.from_config(load_config(args.configs, args.overrides))
+    return Parameters.from_config(load_config(config_sources(args), args.overrides))
 
 
 def check_outputs(paths: Sequence[str], suffixes: set[str]) -> list[Path]:

@@ -34,8 +34,8 @@ def cmd_figure(args) -> int:
         raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = check_outputs(args.output, {"pdf", "png", "svg"})
     if args.name in figures.MODEL_FIGURES:
-        if not args.configs:
-            raise InputError(f"figure '{args.name}' needs a CONFIG file")
+        if not args.configs and not args.scene:
+            raise InputError(f"figure '{args.name}' needs a CONFIG file or --scene NAME")
         draw = lambda: figures.MODEL_FIGURES[args.name](parameters(args))  # noqa: E731
     elif args.name in figures.CASES_FIGURES:
         if not args.input:

@@ -1,0 +1,19 @@
+"""capslide: finite element simulations of adhesive friction of a soft cap on a rigid substrate.
+
+Layers, lowest first (a module imports only from its own layer or lower ones; tests/test_layers.py checks it):
+``config``/``params``/``states`` -> ``laws`` -> ``fem`` -> ``solvers`` -> ``model`` -> ``loadpath`` -> ``io`` ->
+``driver`` -> ``studies`` -> ``figures`` -> ``cli`` and ``api`` (the Python interface, also as ``capslide.run`` etc.).
+"""
+
+from .version import __version__
+
+__all__ = ["__version__", "load_config", "run", "open_case", "open_cases", "config_of"]
+
+
+def __getattr__(name: str):
+    """The Python interface (:mod:`capslide.api`), imported on first use: the command line does not pay for it."""
+    if name in ("load_config", "run", "open_case", "open_cases", "config_of"):
+        from . import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'capslide' has no attribute {name!r}")

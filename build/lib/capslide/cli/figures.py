@@ -1,0 +1,71 @@
+"""The figure command: any paper figure from a configuration or from result files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..io.reading import config_of, open_result, read_mesh
+from ..params import Parameters
+from .common import InputError, check_outputs, parameters
+
+__all__ = ["cmd_figure", "FIGURE_HELP"]
+
+FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from CONFIG, cap_setup from "
+               "--input MESH.nc, cap_PxAndAc, cap_PxOverAc and cap_FtOverA from --input CASES.nc, cap_Aczoom and cap_xn from "
+               "--input CASE.nc, verification from --table FILE.csv")
+
+
+def _tau_DI(cases) -> float | None:
+    """tau_DI / E of the DI model of a collected file (mu_DI T_max / E), None without a DI model."""
+    if "friction_model" not in cases.coords or "DI" not in set(map(str, cases["friction_model"].values)):
+        return None
+    mu = (float(cases["mu_DI"].where(cases["friction_model"] == "DI", drop=True)[0]) if "mu_DI" in cases.coords
+          else float(cases.attrs["friction_mu_DI"]))
+    return mu * float(cases.attrs["adhesion_T_max"]) / float(cases.attrs["material_E"])
+
+
+def cmd_figure(args) -> int:
+    """Render one figure to PDF and/or PNG (model figures from a config, others from result files)."""
+    from .. import figures  # matplotlib only when a figure is drawn
+
+    known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES,
+             **figures.CASE_FIGURES}
+    if args.name not in known:
+        raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
+    outputs = check_outputs(args.output, {"pdf", "png", "svg"})
+    if args.name in figures.MODEL_FIGURES:
+        if not args.configs and not args.scene:
+            raise InputError(f"figure '{args.name}' needs a CONFIG file or --scene NAME")
+        draw = lambda: figures.MODEL_FIGURES[args.name](parameters(args))  # noqa: E731
+    elif args.name in figures.CASES_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
+        cases = open_result(args.input, "cases")
+        kwargs = {"tau_DI": _tau_DI(cases)} if args.name in ("cap_PxOverAc", "cap_FtOverA") else {}
+        draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
+    elif args.name in figures.CASE_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
+        case = open_result(args.input, "case")
+        if case.sizes.get("snapshot_ubar", 0) == 0:
+            raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs them: "
+                             "output.snapshot_ubar)")
+        draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
+    elif args.name in figures.TABLE_FIGURES:
+        from ..studies.verification import read_tables
+
+        if not args.tables:
+            raise InputError(f"figure '{args.name}' needs --table FILE.csv")
+        for table in args.tables:
+            if not Path(table).is_file():
+                raise InputError(f"table '{table}' does not exist (capslide verify writes it)")
+        draw = lambda: figures.TABLE_FIGURES[args.name](read_tables(args.tables))  # noqa: E731
+    else:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input MESH.nc")
+        params = Parameters.from_config(config_of(args.input))
+        mesh = read_mesh(args.input)
+        draw = lambda: figures.MESH_FIGURES[args.name](mesh, params)  # noqa: E731
+    with figures.journal_style():
+        figures.save(draw(), outputs)
+    return 0

@@ -1,0 +1,118 @@
+"""Cross-key rules of a configuration that its schema cannot express: each raises a one-line ConfigError naming
+the key and its value (:func:`capslide.config.validate` applies them after the schema and the defaults)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from .config import ConfigError
+
+__all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency"]
+
+
+# Largest Poisson's ratio at which each displacement element is free of volumetric locking, measured with
+# benchmarks/locking.py (docs/stability.md): the zero-load contact area of the paper's cap at the element's preset
+# (Q1: fast, Q2: paper) against a converged reference, within the preset's error budget (5 %, 1 %).
+# Q1: -3.8 % at nu = 0.45, -6.9 % at 0.48, -10.4 % at 0.49. Q2: -0.11 % at 0.48, -0.16 % at 0.49.
+LOCKING_NU = {"Q1": 0.45, "Q2": 0.49}
+
+
+def _check_locking(config: Mapping) -> None:
+    """The displacement formulation locks as nu -> 0.5; the mixed one (Q2/P1) does not, and needs Q2."""
+    nu, element, formulation = config["material"]["nu"], config["mesh"]["element"], config["mesh"]["formulation"]
+    if formulation == "mixed":
+        if element != "Q2":
+            raise ConfigError(f"mesh.formulation = mixed needs mesh.element = Q2, not {element} (Q2/P1)")
+        return
+    if nu == 0.5:
+        raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2")
+    if nu > LOCKING_NU[element] and config["limits"]["refuse_locking"]:
+        q2 = f" or mesh.element = Q2 (up to nu = {LOCKING_NU['Q2']})" if element == "Q1" else ""
+        advice = (f"use mesh.formulation = mixed with mesh.element = Q2 (Q2/P1, free of locking up to nu = 0.5){q2}"
+                  f" or nu <= {LOCKING_NU[element]}")
+        raise ConfigError(f"material.nu = {nu!r} is not allowed with mesh.element = {element}: the element locks beyond "
+                          f"nu = {LOCKING_NU[element]} (benchmarks/locking.py); {advice} (limits.refuse_locking)")
+
+
+def _check_viscoelastic(config: Mapping) -> None:
+    """The viscous branches need time (a velocity), and branches are given only for the viscoelastic law."""
+    mat, velocity = config["material"], config["loading"]["velocity"]
+    viscous = mat["model"] == "viscoelastic"
+    if viscous and not mat["prony"]:
+        raise ConfigError("material.prony = [] is not allowed with material.model = viscoelastic: give a branch {g, tau}")
+    if viscous and velocity is None:
+        raise ConfigError("loading.velocity = None is not allowed with material.model = viscoelastic: give the stage's "
+                          "speed (m/s)")
+    if not viscous and mat["prony"]:
+        raise ConfigError(f"material.prony = {mat['prony']!r} is not allowed with material.model = {mat['model']}: "
+                          "the branches need material.model = viscoelastic")
+
+
+# Largest spring stiffness / E of loading.normal_control = spring (per unit width: Pa / Pa). Measured on the paper's
+# cap at the fast preset (CHANGELOG, Reliability): the slide converges up to k/E = 1e6 and its peak Ft is within
+# 1e-6 of height control from k/E = 1e3 on; at k/E = 1e7 Newton stalls at a residual of 4e-9.
+MAX_SPRING_OVER_E = 1e5
+
+
+def _check_no_op_keys(config: Mapping) -> None:
+    """Keys that would do nothing in this configuration are refused, not silently ignored."""
+    load, fr = config["loading"], config["friction"]
+    if load["spring_stiffness"] is not None and load["normal_control"] != "spring":
+        raise ConfigError(f"loading.spring_stiffness = {load['spring_stiffness']!r} is not allowed with "
+                          f"loading.normal_control = {load['normal_control']}: the spring acts only with normal_control = spring")
+    if fr["DI_area"] != "current" and fr["model"] != "DI":
+        raise ConfigError(f"friction.DI_area = {fr['DI_area']!r} is not allowed with friction.model = {fr['model']}: "
+                          "it sets model DI's threshold")
+    if load["dwell"] > 0.0 and load["velocity"] is None:
+        raise ConfigError(f"loading.dwell = {load['dwell']!r} is not allowed with loading.velocity = None: a dwell is "
+                          "time at rest, and a quasi-static path has no time (give the stage's speed, m/s)")
+
+
+def check_consistency(config: Mapping) -> None:
+    """Cross-key rules the schema cannot express."""
+    _check_locking(config)
+    _check_viscoelastic(config)
+    g_reg_limit = 3.0 ** (1.0 / 6.0)  # g_max / g_eq: beyond it Tn'(g_reg) > 0 and the law never repels
+    g_reg = config["adhesion"]["g_reg_over_g_eq"]
+    if g_reg >= g_reg_limit:
+        raise ConfigError(
+            f"adhesion.g_reg_over_g_eq = {g_reg!r} is not allowed: must be < g_max/g_eq = 3^(1/6) = {g_reg_limit:.5f}"
+            " (a larger g_reg extrapolates the attractive branch and removes all repulsion)"
+        )
+    geo = config["geometry"]
+    if geo["H"] > geo["R"]:
+        raise ConfigError(
+            f"geometry.H = {geo['H']!r} is not allowed: must be at most geometry.R = {geo['R']!r} (a cap is at most a half-disc)"
+        )
+    fr = config["friction"]
+    g_cut = fr["g_cut_DI_over_g_max"] * g_reg_limit  # in units of g_eq
+    if fr["model"] == "DI" and g_cut <= g_reg:
+        raise ConfigError(
+            f"friction.g_cut_DI_over_g_max = {fr['g_cut_DI_over_g_max']!r} is not allowed with adhesion.g_reg_over_g_eq = "
+            f"{g_reg!r}: the DI cut-off gap must lie above the regularization gap "
+            f"(g_cut_DI_over_g_max > {g_reg / g_reg_limit:.5f})"
+        )
+    # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
+    R, H = geo["R"], geo["H"]
+    arc = 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
+    bound = config["adhesion"]["T_max"] / config["material"]["E"] * arc
+    preload = config["loading"]["preload"]
+    if not config["contact"]["repulsion_only"] and preload > bound:
+        raise ConfigError(
+            f"loading.preload = {preload!r} is not allowed: beyond pull-off for sure (adhesion cannot carry more than "
+            f"T_max/E x top-surface length = {bound:.4g})"
+        )
+    load = config["loading"]
+    if load["normal_control"] == "spring" and load["spring_stiffness"] is None:
+        raise ConfigError("loading.spring_stiffness = None is not allowed with loading.normal_control = spring: "
+                          "give the spring's stiffness per unit width (Pa)")
+    _check_no_op_keys(config)
+    k, E = load["spring_stiffness"], config["material"]["E"]
+    if load["normal_control"] == "spring" and k / E > MAX_SPRING_OVER_E:
+        raise ConfigError(f"loading.spring_stiffness = {k!r} is not allowed: must be at most {MAX_SPRING_OVER_E:g} x "
+                          f"material.E = {MAX_SPRING_OVER_E * E:g} Pa (stiffer springs are height control to 1e-6 in Ft, and "
+                          "their constraint row loses Newton's convergence to round-off): use loading.normal_control = height")
+    if config["contact"]["repulsion_only"] and preload > 0.0:
+        raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: "
+                          "a tensile preload needs adhesion")

@@ -1,0 +1,1 @@
+"""Discretization: reference elements, meshes, bulk assembly, the contact surface integral."""

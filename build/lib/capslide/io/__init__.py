@@ -1,0 +1,1 @@
+"""Files: result datasets (netCDF), checkpoints, ParaView export, atomic writes."""

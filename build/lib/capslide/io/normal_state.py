@@ -1,0 +1,126 @@
+"""Normal states: a cap approached and preloaded, saved once and slid by every friction model (issue 19); a dwell
+at the preload (``loading.dwell``) runs after the state, under the slide's normal control.
+
+Friction acts from the slide on (DESIGN section 5): the approach and the preload of a case depend on its
+configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that differ only in those keys share
+them. A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
+(:class:`capslide.loadpath.cap.PathState`), the step records up to there, the wall time spent, how the path ended
+when the preload failed, and the *normal configuration* it was computed for (:func:`normal_config`): the
+configuration without the slide-only keys (points in contact report ``frictionless`` before the slide, whatever
+the friction law). With ``friction.active_from = contact`` friction acts through the approach and the preload, so
+the friction keys belong to the normal configuration and each friction model preloads itself. A case starts from
+the file only when its own normal configuration is the same; otherwise :func:`read_normal_state` names the first
+key that differs.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from ..config import flatten
+from ..states import Status
+from .checkpoint import SavedCase, path_state, read_guarded, read_signed, record_arrays, records_of, state_arrays, write_signed
+from .state_check import check_header
+
+__all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
+           "read_normal_state", "read_normal_state_at_any_preload"]
+
+FORMAT = "capslide normal state 1"
+
+# dotted keys (or sections, ending in '.') that act from the slide on: they change nothing before it
+SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "loading.min_slide_step",
+              "loading.slide_back", "loading.stop_at_onset", "loading.normal_control", "loading.spring_stiffness",
+              "loading.dwell", "output.snapshot_ubar", "study.")
+
+
+class NormalStateError(ValueError):
+    """A normal state file that this case cannot start from (the message says why, in one line)."""
+
+
+def slide_only(key: str) -> bool:
+    """Whether the dotted configuration ``key`` acts only from the slide on."""
+    return any(key.startswith(k) if k.endswith(".") else key == k for k in SLIDE_ONLY)
+
+
+def _number_as_float(value: Any) -> Any:
+    """1 and 1.0 are the same setting (YAML and --set write either)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if isinstance(value, list):
+        return [_number_as_float(v) for v in value]
+    return value
+
+
+def normal_config(config: Mapping) -> dict[str, Any]:
+    """Dotted key -> value of the configuration the approach and preload depend on (numbers as floats); with
+    ``friction.active_from = contact`` friction acts before the slide, and every friction key belongs to it."""
+    flat = flatten(config)
+    from_contact = flat.get("friction.active_from") == "contact"
+    return {k: _number_as_float(v) for k, v in flat.items()
+            if not slide_only(k) or (from_contact and k.startswith("friction."))}
+
+
+def _text(normal: Mapping[str, Any]) -> str:
+    return json.dumps(normal, sort_keys=True)
+
+
+def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> None:
+    """Write the normal state ``saved`` (records, path state, wall time, ``ended``) computed for ``config``."""
+    arrays, state = state_arrays(saved.state)
+    arrays.update({f"record_{k}": v for k, v in record_arrays(saved.records).items()})
+    status, reason = saved.ended if saved.ended is not None else (Status.COMPLETED, "")
+    write_signed(Path(path), arrays, {"format": FORMAT, "normal_config": _text(normal_config(config)), **state,
+                                      "elapsed": saved.elapsed, "status": int(status), "reason": reason})
+
+
+def _first_difference(saved: Mapping[str, Any], own: Mapping[str, Any]) -> str:
+    """The first key whose value differs; friction.active_from first, which decides whether the friction keys
+    belong to the normal configuration at all (absent: 'slide', its default)."""
+    absent = {"friction.active_from": "slide"}
+    for key in sorted(set(saved) | set(own) | set(absent), key=lambda k: (k != "friction.active_from", k)):
+        there, here = saved.get(key, absent.get(key)), own.get(key, absent.get(key))
+        if there != here:
+            return f"{key} = {there!r} there, {here!r} here"
+    return "none"
+
+
+def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:
+    data, meta = read_signed(path, "normal state", NormalStateError)
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
+    check_header(meta, "normal state")
+    theirs, own = json.loads(meta["normal_config"]), normal_config(config)
+    preload = float(theirs["loading.preload"])
+    if any_preload:
+        own["loading.preload"] = preload
+    if _text(theirs) != _text(own):
+        raise NormalStateError(f"normal state '{path}' was computed for another configuration "
+                               f"({_first_difference(theirs, own)})")
+    records = records_of({k.removeprefix("record_"): v for k, v in data.items() if k.startswith("record_")})
+    status = Status(meta["status"])
+    ended = None if status == Status.COMPLETED else (status, meta["reason"])
+    return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended, f"normal state '{path}'"), preload
+
+
+def _read(path: str | Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, float]:
+    path = Path(path)
+    if path.is_dir():
+        raise NormalStateError(f"normal state '{path}' is a directory")
+    if not path.is_file():
+        raise NormalStateError(f"normal state '{path}' does not exist")
+    return read_guarded(lambda: _load(path, config, any_preload), path, "normal state", NormalStateError)
+
+
+def read_normal_state(path: str | Path, config: Mapping) -> SavedCase:
+    """The normal state in ``path``, checked against the normal configuration of ``config``; NormalStateError
+    (one line) when the file is damaged, foreign or for another configuration."""
+    return _read(path, config, any_preload=False)[0]
+
+
+def read_normal_state_at_any_preload(path: str | Path, config: Mapping) -> tuple[SavedCase, float]:
+    """The normal state in ``path`` and the preload Fn* it was computed for, checked against the normal
+    configuration of ``config`` at that preload (a path that may go on to ``config``'s own preload)."""
+    return _read(path, config, any_preload=True)

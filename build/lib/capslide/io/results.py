@@ -1,0 +1,276 @@
+"""Result datasets with CF attributes and units that UDUNITS reads, written atomically (docs/data.md).
+
+Values are stored normalized (lengths / L0, stresses / E, forces per width / (E L0 W)); each ``units`` attribute is
+the scaled physical unit of that normalization (for the paper's E = 2 MPa and L0 = 1 um: "1e-06 m", "2e+06 Pa",
+"2 N/m"), so a unit-aware reader gets physical values by multiplying, and ``normalization`` names the scale.
+Quantities a user plots against are coordinates (``ubar`` on ``step``, ``X_reference`` on ``surface_point``, the
+node positions on ``node``); snapshots are indexed by their ``snapshot_ubar``. Global attributes: ``Conventions``,
+``title``, ``history``, the software version, the configuration as YAML text and flattened with ``_`` in the names.
+"""
+
+from __future__ import annotations
+
+import datetime
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+import yaml
+
+from ..config import flatten
+from ..fem.interface import SurfaceQuadrature
+from ..fem.mesh import Mesh
+from ..states import Phase, SlipState, flag_attributes
+from ..version import software_version
+from .atomic import replacing
+
+__all__ = ["CONVENTIONS", "scaled_units", "quantity", "global_attrs", "write_netcdf", "mesh_dataset", "case_dataset",
+           "STEP_VARIABLES", "CASE_SCALARS", "PROFILES"]
+
+CONVENTIONS = "CF-1.10"
+STEP_VARIABLES = ("Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right", "newton_iterations",
+                  "krylov_iterations", "wall_time", "steady_step", "area_reference", "x_stick_left", "x_stick_right",
+                  "Ft_over_area", "elastic_energy", "dissipation", "adhesion_energy", "penalty_energy", "external_work",
+                  "energy_residual")
+STEP_COORDINATES = ("phase", "ubar", "h")
+CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
+PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state", "slip", "slip_rate")
+
+
+def scaled_units(E: float, L0: float) -> dict[str, str]:
+    """UDUNITS strings of the internal units: length L0 (m), stress E (Pa), force per unit out-of-plane width
+    E L0 (N/m; plane strain, W = 1), energy per unit width E L0^2 (J/m)."""
+    return {"length": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m", "energy": f"{E * L0 * L0:g} J/m"}
+
+
+def quantity(long_name: str, units: str, normalization: str | None = None) -> dict:
+    """CF attributes of a stored quantity; ``normalization`` says what it is divided by ("L0", "E", "E L0 W")."""
+    attrs = {"long_name": long_name, "units": units}
+    if normalization:
+        attrs["normalization"] = f"divided by {normalization}"
+    return attrs
+
+
+def _attr_value(value: Any):
+    """netCDF attributes hold numbers and strings only."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, (int, float, str, np.number)):
+        return value
+    return str(value)
+
+
+def global_attrs(config: Mapping[str, Any] | None, title: str, history: str | None = None) -> dict[str, Any]:
+    """Conventions, title, history, software version, the configuration as YAML and flattened (``section_key``)."""
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    attrs = {"Conventions": CONVENTIONS, "title": title,
+             "history": f"{now}: {history or 'written by capslide ' + software_version()}",
+             "source": "capslide finite element model (https://doi.org/10.1080/00218464.2018.1479258)",
+             "software": "capslide", "software_version": software_version()}
+    if config is not None:
+        attrs["config_yaml"] = yaml.safe_dump(dict(config), sort_keys=False)
+        attrs.update({k.replace(".", "_"): _attr_value(v) for k, v in flatten(config).items()})
+    return attrs
+
+
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to ``path`` via a temporary file in the same directory and a rename.
+
+    Numeric variables are stored with lossless zlib compression (byte shuffle), which readers undo transparently;
+    far-from-contact tractions and flags compress to almost nothing.
+    """
+    path = Path(path)
+    encoding = {name: {"zlib": True, "complevel": 4, "shuffle": True}
+                for name, var in ds.variables.items() if var.dtype.kind in "fiub" and var.ndim > 0}
+    with replacing(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
+    return path
+
+
+def _index(name: str) -> dict:
+    return quantity(f"{name} (position in the list)", "1")
+
+
+def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: str | None = None) -> xr.Dataset:
+    """The mesh as a dataset: node positions (coordinates), cells, base nodes and top-surface segments."""
+    L0 = float(config["geometry"]["L0"]) if config is not None else 1.0e-6
+    length = scaled_units(1.0, L0)["length"]
+    order = mesh.surface_segments.shape[1] - 1
+    ds = xr.Dataset(
+        {
+            "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64),
+                           quantity("node ids of cell (Q1: counter-clockwise; Q2: corners, mid-edges, centre)", "1")),
+            "base_nodes": ("base_node", mesh.base.astype(np.int64), quantity("node ids on the fixed base y = 0", "1")),
+            "surface_segment_nodes": (("surface_segment", "segment_node"), mesh.surface_segments.astype(np.int64),
+                                      quantity(f"node ids of top-surface line elements (order {order}), sorted by "
+                                               "reference x", "1")),
+        },
+        coords={"X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", length, "L0")),
+                "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", length, "L0"))},
+        attrs={"element": mesh.element, "n_dofs": mesh.n_dofs,
+               **{f"grading_{k}": _attr_value(v) for k, v in mesh.info.items()}},
+    )
+    ds.attrs.update(global_attrs(config, "capslide mesh of the cap", history))
+    return ds
+
+
+def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
+    """Accumulated slip and slip rate per unit ubar of each surface point in contact (slip: the anchors' moves of
+    the steps, signed)."""
+    state = np.stack([r.slip_state for r in recs]) if recs else np.zeros(slip.shape, dtype=np.int8)
+    slip = np.where((state == SlipState.STICK) | (state == SlipState.SLIP), slip, 0.0)
+    dubar = np.diff([r.ubar for r in recs], prepend=recs[0].ubar if recs else 0.0)[:, None]
+    rate = np.divide(slip, dubar, out=np.full(slip.shape, np.nan), where=dubar != 0.0)
+    return {"slip": (("step", "surface_point"), np.cumsum(np.abs(slip), axis=0),
+                     quantity("slip accumulated up to the step: sum of |slip| of the steps, in contact", length, "L0")),
+            "slip_rate": (("step", "surface_point"), rate,
+                          quantity("slip of the step per unit ubar, signed (+x: the cap slips in the sliding "
+                                   "direction relative to the substrate; NaN where ubar does not change)", "1"))}
+
+
+def _dissipation(recs, weight: np.ndarray) -> np.ndarray:
+    """Frictional work dissipated up to each step (E L0^2 per width): the sum over steps and surface points of
+    -(T_t before + T_t after) / 2 x the anchors' move x dA. With the trapezoidal work of the loads this closes the
+    energy balance of the return map's elastic-slip split exactly at every step (a spring-slider: T dx = T dx_e +
+    T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty energy T^2 / (2 eps_t))."""
+    if not recs:
+        return np.zeros(0)
+    Tt = np.stack([r.traction_t for r in recs])
+    slip = np.stack([r.slip for r in recs])
+    before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
+    return np.cumsum(-0.5 * ((before + Tt) * slip) @ weight)
+
+
+def _energy_balance(recs, dissipation: np.ndarray, energy: str) -> dict:
+    """The work of the loads on the substrate, int Fn dh + Ft dubar (trapezoidal rule over the steps), and the
+    balance's residual: work - (change of elastic, adhesive and penalty energy) - dissipation."""
+    Fn, Ft, h, ubar = (np.array([getattr(r, k) for r in recs], dtype=float) for k in ("Fn", "Ft", "h", "ubar"))
+    dW = 0.5 * (Fn[1:] + Fn[:-1]) * np.diff(h) + 0.5 * (Ft[1:] + Ft[:-1]) * np.diff(ubar)
+    work = np.concatenate([np.zeros(min(len(recs), 1)), np.cumsum(dW)])
+    stored = np.array([r.elastic_energy + r.adhesion_energy + r.penalty_energy for r in recs], dtype=float)
+    residual = work - (stored - stored[:1]) - dissipation
+    return {"external_work": ("step", work, quantity("work of the loads on the substrate up to the step, per unit "
+                                                     "width: int Fn dh + Ft dubar (trapezoidal rule)", energy,
+                                                     "E L0^2 W")),
+            "energy_residual": ("step", residual, quantity("energy balance: external_work - (elastic + adhesion + "
+                                                           "penalty energy, change from step 0) - dissipation",
+                                                           energy, "E L0^2 W"))}
+
+
+def case_dataset(result, history: str | None = None) -> xr.Dataset:
+    """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md)."""
+    p, recs, mesh = result.params, result.records, result.mesh
+    u = scaled_units(p.units.E, p.units.L0)
+    step = lambda name, dt=float: np.array([getattr(r, name) for r in recs], dtype=dt)  # noqa: E731
+    n_pts = len(recs[0].gap) if recs else 0
+    prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
+                                   if recs else np.zeros((0, n_pts), dtype=dt))
+    on_step = {
+        "Fn": quantity("normal contact force on the cap, positive = tensile", u["force"], "E L0 W"),
+        "Ft": quantity("tangential contact force on the cap, positive in the sliding direction", u["force"], "E L0 W"),
+        "area": quantity(f"contact area: current length where g_n <= {p.contact.area_gap:.5g} L0", u["length"], "L0"),
+        "area_compressive": quantity("current length where Tn >= 0 (compressive)", u["length"], "L0"),
+        "area_stick": quantity("current length of sticking points in contact", u["length"], "L0"),
+        "x_left": quantity("current x of the left (trailing) contact edge", u["length"], "L0"),
+        "x_right": quantity("current x of the right (leading) contact edge", u["length"], "L0"),
+        "area_reference": quantity("contact area in the reference configuration: reference length of the contact",
+                                   u["length"], "L0"),
+        "x_stick_left": quantity("current x of the stick zone's left edge (NaN: nothing sticks)", u["length"], "L0"),
+        "x_stick_right": quantity("current x of the stick zone's right edge (NaN: nothing sticks)", u["length"], "L0"),
+        "elastic_energy": quantity("strain energy of the cap per unit width", u["energy"], "E L0^2 W"),
+        "adhesion_energy": quantity("adhesive potential of the interface per unit width (NaN with theta_k = J_s)",
+                                    u["energy"], "E L0^2 W"),
+        "penalty_energy": quantity("elastic energy of the tangential penalty per unit width", u["energy"], "E L0^2 W"),
+    }
+    data = {name: ("step", step(name), attrs) for name, attrs in on_step.items()}
+    area = step("area")
+    data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
+                            quantity("Ft / area: mean shear stress in contact (NaN without contact)", u["stress"], "E"))
+    quad = SurfaceQuadrature.on(mesh, p.mesh.surface_gauss_points)  # the surface points, ordered by reference x
+    dissipated = _dissipation(recs, quad.weight.ravel())
+    data["dissipation"] = ("step", dissipated, quantity("frictional work dissipated up to the step, per unit width: "
+                                                        "sum over steps of -(Tt before + Tt after) / 2 x slip x dA",
+                                                        u["energy"], "E L0^2 W"))
+    data.update(_energy_balance(recs, dissipated, u["energy"]))
+    data.update({
+        "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
+        "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),
+        "wall_time": ("step", step("wall_time"), quantity("wall time of the step", "s")),
+        "steady_step": ("step", step("steady_step", np.int8),
+                        quantity("1: the step went in one to the next snapshot ubar or the leg's end, the sliding being "
+                                 "steady (Ft, area and gaps unchanged to 1e-8 over the steps before and over it); "
+                                 "0: a step of the adaptive step control", "1")),
+        "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float),
+                         quantity("x force of the clamped base on the cap; force balance: Ft + base_force_x = 0",
+                                  u["force"], "E L0 W")),
+        "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float),
+                         quantity("y force of the clamped base on the cap; force balance: Fn + base_force_y = 0",
+                                  u["force"], "E L0 W")),
+    })
+    if p.config["output"]["surface_profiles"]:
+        data.update({
+            "x_current": (("step", "surface_point"), prof("x_surface"), quantity("current x of the surface point",
+                                                                                 u["length"], "L0")),
+            "y_current": (("step", "surface_point"), prof("y_surface"), quantity("current y of the surface point",
+                                                                                 u["length"], "L0")),
+            "gap": (("step", "surface_point"), prof("gap"), quantity("normal gap g_n", u["length"], "L0")),
+            "traction_n": (("step", "surface_point"), prof("traction_n"),
+                           quantity("normal traction Tn per reference area, positive = repulsive", u["stress"], "E")),
+            "traction_t": (("step", "surface_point"), prof("traction_t"),
+                           quantity("tangential traction on the cap per reference area, positive = +x", u["stress"], "E")),
+            "slip_state": (("step", "surface_point"), prof("slip_state", np.int8),
+                           flag_attributes(SlipState, "friction state of the surface point")),
+            **_slip_profiles(recs, prof("slip"), u["length"]),
+        })
+    s = result.scalars
+    data.update({
+        "peak_Ft": ((), s["peak_Ft"], quantity("largest |Ft| while sliding (signed)", u["force"], "E L0 W")),
+        "onset_ubar": ((), s["onset_ubar"], quantity("ubar at the onset of full sliding (NaN: not reached)", u["length"],
+                                                     "L0")),
+        "onset_Ft": ((), s["onset_Ft"], quantity("Ft at the onset of full sliding", u["force"], "E L0 W")),
+        "onset_area": ((), s["onset_area"], quantity("contact area at the onset of full sliding", u["length"], "L0")),
+    })
+    snaps = result.snapshots
+    k, nn, nc = len(snaps), mesh.n_nodes, mesh.n_cells
+    data.update({
+        "cell_nodes": (("cell", "cell_node"), mesh.cells.astype(np.int64),
+                       quantity("node ids of the cell (Q1: counter-clockwise; Q2: corners, mid-edges, centre)", "1")),
+        "u_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 0] for sn in snaps]).reshape(k, nn),
+                   quantity("x displacement of the node", u["length"], "L0")),
+        "v_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 1] for sn in snaps]).reshape(k, nn),
+                   quantity("y displacement of the node", u["length"], "L0")),
+        "I1_sigma": (("snapshot_ubar", "cell"), np.array([sn.I1_sigma for sn in snaps]).reshape(k, nc),
+                     quantity("first invariant of the Cauchy stress (with sigma_zz), cell average", u["stress"], "E")),
+    })
+    coords = {
+        "step": ("step", np.arange(len(recs), dtype=np.int32), quantity("converged load step", "1")),
+        "phase": ("step", step("phase", np.int8), flag_attributes(Phase, "load phase")),
+        "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u["length"], "L0")),
+        "h": ("step", step("h"), quantity("height of the substrate's lower face above the base", u["length"], "L0")),
+        "X_reference": ("surface_point", quad.X[..., 0].ravel() if recs else np.zeros(0),
+                        quantity("reference x of the surface Gauss point", u["length"], "L0")),
+        "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
+                          quantity("ubar of the field snapshot", u["length"], "L0")),
+        "X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", u["length"], "L0")),
+        "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u["length"], "L0")),
+    }
+    if p.loading.velocity is not None:  # time is tracked
+        coords["time"] = ("step", step("time"), quantity("time since the start of the approach", "s"))
+    if p.material.prony_g:
+        data["elastic_energy"][2]["long_name"] = ("stored energy of the cap per unit width: the neo-Hooke part and "
+                                                  "the viscous branches' (energy_residual then holds their "
+                                                  "dissipation)")
+    ds = xr.Dataset({name: xr.Variable(*v) for name, v in data.items()},
+                    coords={name: xr.Variable(*v) for name, v in coords.items()})
+    ds.attrs.update(global_attrs(p.config, "capslide case: soft cap sliding on a rigid substrate", history))
+    ds.attrs.update({
+        "status": result.status.label, "status_reason": result.reason or "none",
+        "status_step": len(recs) - 1, "cutbacks": result.cutbacks,
+        "min_step": float(result.min_step), "case_wall_time": float(result.wall_time),
+        "element": mesh.element, "n_cells": mesh.n_cells, "n_dofs": mesh.n_dofs,
+    })
+    return ds

@@ -1,0 +1,91 @@
+"""Field snapshots as VTK files for ParaView: one ``.vtu`` per snapshot and a ``.pvd`` index.
+
+XML UnstructuredGrid files (VTK file format version 1.0) with base64 binary
+data arrays and a UInt64 header. Points are the reference node coordinates
+(z = 0); the point array ``displacement`` (L0) gives the deformed shape
+(ParaView: Warp By Vector) and the cell array ``I1_sigma`` (/ E) the first
+stress invariant. Q1 cells are VTK_QUAD (9); Q2 cells VTK_BIQUADRATIC_QUAD
+(28), whose node order (corners, mid-edges bottom/right/top/left, centre) is
+capslide's. The ``.pvd`` index carries ubar as its time value, so
+ParaView's time slider steps through the slide. Files are written atomically.
+"""
+
+from __future__ import annotations
+
+import base64
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from .atomic import replacing
+
+__all__ = ["VTK_CELL_TYPES", "write_vtu", "write_pvd", "write_snapshot_series"]
+
+VTK_CELL_TYPES = {4: 9, 9: 28}  # nodes per cell -> VTK_QUAD, VTK_BIQUADRATIC_QUAD
+_VTK_TYPE_NAMES = {("f", 8): "Float64", ("f", 4): "Float32", ("i", 8): "Int64", ("u", 1): "UInt8"}
+
+
+def _data_array(name: str, values: np.ndarray, components: int = 1) -> str:
+    values = np.ascontiguousarray(values, dtype=values.dtype.newbyteorder("<"))  # the header says little endian
+    raw = values.tobytes()
+    payload = base64.b64encode(np.array(len(raw), dtype="<u8").tobytes() + raw).decode("ascii")
+    kind = _VTK_TYPE_NAMES[(values.dtype.kind, values.dtype.itemsize)]
+    return (f'<DataArray type="{kind}" Name={quoteattr(name)} '
+            f'NumberOfComponents="{components}" format="binary">{payload}</DataArray>')
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    with replacing(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def write_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray, point_vectors: dict[str, np.ndarray],
+              cell_scalars: dict[str, np.ndarray]) -> Path:
+    """One unstructured grid: ``nodes`` (n, 2), ``cells`` (m, 4 or 9) node ids, 2D point vectors, cell scalars."""
+    path = Path(path)
+    n, m = len(nodes), len(cells)
+    if cells.shape[1] not in VTK_CELL_TYPES:
+        raise ValueError(f"cells with {cells.shape[1]} nodes have no VTK type here (allowed: 4, 9)")
+    points = np.column_stack([nodes, np.zeros(n)]).astype(np.float64)
+    connectivity = cells.astype(np.int64).ravel()
+    offsets = np.arange(1, m + 1, dtype=np.int64) * cells.shape[1]
+    types = np.full(m, VTK_CELL_TYPES[cells.shape[1]], dtype=np.uint8)
+    pdata = "".join(_data_array(k, np.column_stack([v, np.zeros(n)]).astype(np.float64), 3)
+                    for k, v in point_vectors.items())
+    cdata = "".join(_data_array(k, np.asarray(v, dtype=np.float64)) for k, v in cell_scalars.items())
+    text = (
+        '<?xml version="1.0"?>\n'
+        '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">\n'
+        f'<UnstructuredGrid><Piece NumberOfPoints="{n}" NumberOfCells="{m}">\n'
+        f"<PointData>{pdata}</PointData>\n<CellData>{cdata}</CellData>\n"
+        f"<Points>{_data_array('Points', points, 3)}</Points>\n"
+        f"<Cells>{_data_array('connectivity', connectivity)}{_data_array('offsets', offsets)}"
+        f"{_data_array('types', types)}</Cells>\n"
+        "</Piece></UnstructuredGrid>\n</VTKFile>\n"
+    )
+    _write_atomic(path, text)
+    return path
+
+
+def write_pvd(path: str | Path, entries: list[tuple[float, str]]) -> Path:
+    """A ParaView collection: (time value, file name relative to the .pvd) per dataset."""
+    path = Path(path)
+    rows = "".join(f'<DataSet timestep="{t:.12g}" part="0" file={quoteattr(f)}/>\n' for t, f in entries)
+    _write_atomic(path, f'<?xml version="1.0"?>\n<VTKFile type="Collection" version="1.0">\n<Collection>\n{rows}'
+                        "</Collection>\n</VTKFile>\n")
+    return path
+
+
+def write_snapshot_series(directory: str | Path, stem: str, nodes: np.ndarray, cells: np.ndarray, ubar: np.ndarray,
+                          u: np.ndarray, v: np.ndarray, I1_sigma: np.ndarray) -> Path:
+    """Every snapshot k as ``{stem}_{k:03d}.vtu`` plus ``{stem}.pvd`` (time = ubar) in ``directory``; the .pvd path."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    entries = []
+    for k in range(len(ubar)):
+        name = f"{stem}_{k:03d}.vtu"
+        write_vtu(directory / name, nodes, cells, {"displacement": np.column_stack([u[k], v[k]])},
+                  {"I1_sigma": I1_sigma[k]})
+        entries.append((float(ubar[k]), name))
+    return write_pvd(directory / f"{stem}.pvd", entries)

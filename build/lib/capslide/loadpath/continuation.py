@@ -1,0 +1,261 @@
+"""Adaptive continuation in one scalar load parameter, as a generator of converged states.
+
+``continuation`` steps the parameter from the loop's value to ``end`` under :class:`StepControl`: the step grows by
+``growth`` after a Newton solve of at most ``easy_iterations`` iterations and is halved after a failure; a step
+shortened to land on the end, a breakpoint or the leg's step limit leaves the step as it was; below the minimum
+step, or past ``max_cutbacks`` halvings, the continuation ends as diverged with a reason instead of looping. A
+secant predictor extrapolates the last two converged states, unless the leg asks for none (under force control it
+started the preload's Newton solves farther off than the last state did). A leg may ask for a stick predictor of its
+first step instead (``stick_first``): a Newton solve with every friction point held in stick
+(:meth:`CapModel.sticking`), from which the real solve starts; its iterations count in the step's. Once the
+leg's ``steady`` rule holds after a step, the step control no longer caps the next steps: each goes to the next
+breakpoint or the end in one, and its record says so; a long step that fails, or after which the rule no longer
+holds, is cut back as any other (halved, to at most the step control's maximum). Each converged
+step is measured, the history committed, and a :class:`Converged` yielded; the generator's return value is the
+:class:`LegEnd`. The loop variables live in a :class:`Loop` that the caller owns, so a continuation can start again
+from a saved one. Nothing here knows of files, terminals or checkpoints.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Generator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model.system import CapModel, History
+from ..solvers.newton import NewtonOptions, NewtonResult, newton
+from ..states import Phase, Status
+from .measures import StepRecord, measure
+
+__all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "Notice", "newton_options", "solve_constrained", "continuation",
+           "Returning", "drain"]
+
+
+@dataclass(frozen=True)
+class StepControl:
+    """Step sizes of a continuation (units of its load parameter) and when to grow or give up."""
+
+    first: float
+    minimum: float
+    maximum: float
+    growth: float = 1.5
+    easy_iterations: int = 4  # a solve with at most this many Newton iterations lets the step grow
+    max_cutbacks: int = 200
+
+
+@dataclass(frozen=True)
+class Leg:
+    """What a continuation runs: ``constraint_of(value)`` is the model constraint at load value ``value``, ``end``
+    the value to reach under ``control``; records get ``phase``; reasons start with ``name``. ``ends(record)`` may
+    end the leg after a step with a status; ``step_limit(value)`` may cap the next step; a converged step for whose
+    record ``rejects(record)`` gives a reason counts as a failed one (the step is cut back)."""
+
+    constraint_of: Callable[[float], object]
+    end: float
+    control: StepControl
+    phase: Phase
+    name: str
+    ends: Callable[[StepRecord], Status | None] | None = None
+    step_limit: Callable[[float], float] | None = None
+    rejects: Callable[[StepRecord], str | None] | None = None
+    seconds_per_unit: float = 0.0  # time (s) a unit change of the load value takes (0: no time passes)
+    secant: bool = True  # predict from the last two converged states (False: start from the last one)
+    stick_first: bool = False  # predict the leg's first step by a solve with every point in stick
+    steady: Callable[[StepRecord, np.ndarray], bool] | None = None  # steady(record, state before the step)
+
+
+@dataclass
+class Loop:
+    """The loop variables of a continuation between two steps: all it needs to go on."""
+
+    value: float  # load parameter of the last converged state x
+    step: float  # next step size (inf: steady, the next step goes to the next breakpoint or the end)
+    x: np.ndarray
+    x_prev: np.ndarray | None = None  # the converged state one step before x (secant predictor)
+    value_prev: float = math.nan
+    smallest: float = math.inf  # smallest step taken
+    cutbacks: int = 0
+    pending: list[float] = field(default_factory=list)  # breakpoints still ahead: steps end exactly on them
+
+    @classmethod
+    def start(cls, x: np.ndarray, start: float, end: float, control: StepControl, breakpoints=()) -> Loop:
+        direction = 1.0 if end >= start else -1.0
+        tol = _tolerance(end)
+        pending = sorted((b for b in breakpoints if direction * (b - start) > tol and direction * (end - b) >= -tol),
+                         key=lambda b: direction * b)
+        return cls(start, min(abs(control.first), control.maximum), x, pending=list(pending))
+
+
+@dataclass(frozen=True)
+class LegEnd:
+    status: Status
+    reason: str = ""
+
+
+@dataclass
+class Converged:
+    """One converged step: its record, state, history after it, load parameter, and whether it ends the run."""
+
+    record: StepRecord
+    x: np.ndarray
+    history: History
+    value: float
+    loop: Loop
+    breakpoint: float | None = None  # the breakpoint this step landed on
+    end: LegEnd | None = None  # set on the last step of the continuation
+
+
+@dataclass(frozen=True)
+class Notice:
+    """What the path is doing between converged steps (a cut-back), for a progress display."""
+
+    text: str
+
+
+def _tolerance(end: float) -> float:
+    return 1e-12 * max(1.0, abs(end))
+
+
+def newton_options(model: CapModel) -> NewtonOptions:
+    """Newton tolerances of the configuration."""
+    s = model.params.solver
+    return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
+
+
+MAX_UZAWA = 30  # Uzawa updates of the pressure multiplier per step (nu = 0.5) before the step counts as failed
+
+
+def solve_constrained(model: CapModel, constraint, history: History, x0: np.ndarray,
+                      opts: NewtonOptions, dt: float = 0.0) -> tuple[NewtonResult, History]:
+    """Newton from x0 on the cap's equations plus ``constraint`` (forces in E L0, r_ref = 1) at the end of a step
+    of dt seconds from ``history``, and the history with the pressure multiplier it converged with: at nu = 0.5
+    Newton runs again after each of Uzawa's updates of the multiplier until the volume constraint holds
+    (fem.mixed). Iterations are summed over the runs."""
+    def solve(hist: History, x: np.ndarray) -> NewtonResult:
+        return newton(lambda z: model.residual(z, constraint, hist, dt), lambda z: model.linearize(z, constraint, hist, dt),
+                      x, opts, r_ref=1.0, admissible=model.admissible)
+
+    res = solve(history, x0)
+    for _ in range(MAX_UZAWA):
+        updated = model.updated_pressure(res.x, history) if res.converged else None
+        if updated is None:
+            return res, history
+        history = updated
+        res = _after(res, solve(history, res.x))
+    if res.converged and model.updated_pressure(res.x, history) is not None:
+        res.converged = False
+        res.reason = f"volume constraint not met after {MAX_UZAWA} Uzawa updates"
+    return res, history
+
+
+def _after(first: NewtonResult, then: NewtonResult) -> NewtonResult:
+    """``then`` with the iterations, linear iterations, residual norms and runs of ``first``, which ran before it
+    in the same step, added."""
+    then.iterations += first.iterations
+    then.linear_iterations += first.linear_iterations
+    then.residual_norms = first.residual_norms + then.residual_norms
+    then.runs += first.runs
+    return then
+
+
+def continuation(model: CapModel, loop: Loop, history: History,
+                 leg: Leg) -> Generator[Converged | Notice, None, LegEnd]:
+    """Continue ``loop`` to the end of ``leg`` from the friction ``history``; the steps as they converge, and a
+    :class:`Notice` at every cut-back."""
+    end, control, name, ends, step_limit = leg.end, leg.control, leg.name, leg.ends, leg.step_limit
+    direction = 1.0 if end >= loop.value else -1.0
+    tol = _tolerance(end)
+    opts = newton_options(model)
+    while direction * (end - loop.value) > tol:
+        step = min(loop.step, abs(end - loop.value))
+        if step_limit is not None:
+            step = max(min(step, step_limit(loop.value)), control.minimum)
+        if loop.pending:
+            step = min(step, abs(loop.pending[0] - loop.value))
+        shortened = step < loop.step  # to land on the end, a breakpoint or the step limit: loop.step is kept
+        long_step = math.isinf(loop.step)  # the rule held after the last step: this one goes to the next stop
+        target = loop.value + direction * step
+        if loop.pending and abs(target - loop.pending[0]) <= tol:
+            target = loop.pending[0]
+        t0 = time.perf_counter()
+        x0 = loop.x
+        if leg.secant and loop.x_prev is not None and loop.value_prev != loop.value:  # secant predictor
+            x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
+            if not model.admissible(x0):
+                x0 = loop.x
+        c = leg.constraint_of(target)
+        dt = leg.seconds_per_unit * abs(target - loop.value)
+        stick = None
+        if leg.stick_first and loop.x_prev is None:  # the leg's first step starts from its stick solution
+            stick, _ = solve_constrained(model.sticking(), c, history, x0, opts, dt)
+            x0 = stick.x if stick.converged else x0
+        res, solved = solve_constrained(model, c, history, x0, opts, dt)
+        if stick is not None:
+            res = _after(stick, res)
+        reason = res.reason
+        rec = None
+        if res.converged:
+            rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
+                          time.perf_counter() - t0, dt)
+            rec.steady_step = long_step
+            still_steady = leg.steady is not None and leg.steady(rec, loop.x)
+            rejected = leg.rejects(rec) if leg.rejects is not None else None
+            if rejected is None and long_step and not still_steady:
+                rejected = "not steady over the long step"
+            if rejected is not None:
+                rec, reason = None, rejected
+        if rec is None:
+            loop.cutbacks += 1
+            loop.step = min(0.5 * step, control.maximum)
+            if loop.cutbacks > control.max_cutbacks:
+                return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
+                              f"{loop.value:.6g} ({reason})")
+            if loop.step < control.minimum:
+                return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
+                              f"({reason})")
+            yield Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
+            continue
+        loop.x_prev, loop.value_prev = loop.x, loop.value
+        loop.x, loop.value = res.x, target
+        loop.smallest = min(loop.smallest, step)
+        history = model.commit(loop.x, c.ubar, solved, dt)  # the history only at converged steps
+        landed = None
+        if loop.pending and target == loop.pending[0]:
+            landed = loop.pending.pop(0)
+        status = ends(rec) if ends is not None else None
+        leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
+        if leg_end is None:
+            if still_steady:
+                loop.step = math.inf
+            elif not shortened and res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's)
+                loop.step = min(loop.step * control.growth, control.maximum)
+            if not direction * (end - loop.value) > tol:
+                leg_end = LegEnd(Status.COMPLETED)
+        yield Converged(rec, loop.x, history, loop.value, loop, landed, leg_end)
+        if leg_end is not None:
+            return leg_end
+    return LegEnd(Status.COMPLETED)
+
+
+class Returning:
+    """A generator of steps to loop over with ``for``; once the loop has run out, ``value`` is what the generator
+    returned (its end)."""
+
+    def __init__(self, steps: Generator):
+        self.steps, self.value = steps, None
+
+    def __iter__(self):
+        self.value = yield from self.steps
+
+
+def drain(steps: Generator, observe: Callable[[object], None] | None = None):
+    """Run a generator of steps to its end, calling ``observe(step)`` on each step (notices skipped); its return
+    value."""
+    run = Returning(steps)
+    for step in run:
+        if observe is not None and not isinstance(step, Notice):
+            observe(step)
+    return run.value

@@ -1,0 +1,178 @@
+"""What is measured at a converged state: the step record, field snapshots, and the onset of full sliding.
+
+Internal units (stress E, length L0, force per width E L0). Sign conventions of DESIGN section 3: Fn on the cap
+positive when tensile, Ft positive in the sliding direction, Tn positive when repulsive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..laws import contact
+from ..model.system import CapModel, History
+from ..states import Phase, SlipState
+
+__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot",
+           "interval_measures", "fully_sliding", "sliding_onset", "peeling_off"]
+
+
+@dataclass
+class StepRecord:
+    """One converged load step (internal units)."""
+
+    phase: Phase
+    ubar: float
+    h: float
+    Fn: float
+    Ft: float
+    area: float
+    area_compressive: float
+    area_stick: float
+    x_left: float
+    x_right: float
+    newton_iterations: int
+    krylov_iterations: int
+    wall_time: float
+    x_surface: np.ndarray = field(repr=False)
+    y_surface: np.ndarray = field(repr=False)
+    gap: np.ndarray = field(repr=False)
+    traction_n: np.ndarray = field(repr=False)
+    traction_t: np.ndarray = field(repr=False)
+    slip_state: np.ndarray = field(repr=False)
+    reaction: np.ndarray = field(default_factory=lambda: np.zeros(2), repr=False)  # internal force at the clamped base
+    area_reference: float = math.nan  # reference length of the contact area
+    x_stick_left: float = math.nan  # current x of the stick zone's edges (NaN: nothing sticks)
+    x_stick_right: float = math.nan
+    elastic_energy: float = math.nan  # strain energy of the bulk (E L0^2 per width)
+    adhesion_energy: float = math.nan  # adhesive potential of the interface (E L0^2 per width)
+    penalty_energy: float = math.nan  # elastic energy of the tangential penalty (E L0^2 per width)
+    slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
+    time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
+    steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
+
+
+RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
+                  "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
+                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "time", "steady_step")
+RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
+
+
+@dataclass
+class Snapshot:
+    """Field state at one tangential displacement."""
+
+    ubar: float
+    u: np.ndarray  # (n_nodes, 2), L0
+    I1_sigma: np.ndarray  # (n_cells,), E
+
+
+def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar: float, newton_its: int,
+            krylov_its: int, wall: float, dt: float = 0.0) -> StepRecord:
+    """Per-step scalars and surface profiles of the converged state x; ``history`` is the history the step of dt
+    seconds started from (its slip is the move of the anchors at the commit)."""
+    u, h = model.split(x)
+    c = model.contact
+    g, xs = c.gaps(u, h)
+    Tn, _ = c.traction(g)
+    Tn = c.theta(u) * Tn  # per reference area
+    a = model.params.adhesion
+    Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
+    _, Fn, Ft = c.force(u, h, ubar, history.anchors, history.slip)
+    Tt, state = c.tangential_state(u, h, ubar, history.anchors, history.slip)
+    pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
+    open_gap = gg - model.params.contact.area_gap
+    area, xl, xr = interval_measures(pts, open_gap)
+    area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
+    area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
+    area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
+    sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
+    slip = np.zeros_like(gg)
+    if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
+        slip = (c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors).ravel()
+    # the penalty's elastic energy: T_t = -eps_t times the elastic tangential gap after the step
+    penalty = float(np.sum(Tt.ravel() ** 2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
+    return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
+                      pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
+                      model.base_reaction(x, history, dt), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
+                      elastic_energy=model.strain_energy(x, history, dt),
+                      adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
+                      slip=slip, time=history.time + dt)
+
+
+def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
+    """Nodal displacements and the cell-averaged I1(sigma) of the converged state x (``history``: the one after
+    it, with its pressure multiplier and viscous networks)."""
+    return Snapshot(ubar, x[:-1].reshape(-1, 2).copy(), model.cell_first_invariant(x, history or History()))
+
+
+def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:
+    """Length and edges of the part of a polyline where an interpolated value is <= 0.
+
+    ``x`` (n, 2) points ordered along the surface, ``v`` (n,) values at them (for the contact area: g_n minus the
+    contact gap). Linear interpolation of v between neighbours. Returns (length, x_left, x_right); edges are NaN
+    when no part qualifies.
+    """
+    v0, v1 = v[:-1], v[1:]
+    seg = np.linalg.norm(np.diff(x, axis=0), axis=1)
+    both = (v0 <= 0) & (v1 <= 0)
+    cross = (v0 <= 0) != (v1 <= 0)
+    t = np.where(cross, v0 / np.where(cross, v0 - v1, 1.0), 0.0)  # where v crosses zero, from the first point
+    frac = np.where(both, 1.0, np.where(cross, np.where(v0 <= 0, t, 1.0 - t), 0.0))
+    length = float(np.sum(frac * seg))
+    inside = np.flatnonzero(v <= 0)
+    if len(inside) == 0:
+        return length, float("nan"), float("nan")
+    i, j = inside[0], inside[-1]
+    if i > 0:
+        ti = v[i - 1] / (v[i - 1] - v[i])
+        xl = x[i - 1, 0] + ti * (x[i, 0] - x[i - 1, 0])
+    else:
+        xl = x[0, 0]
+    if j < len(v) - 1:
+        tj = v[j] / (v[j] - v[j + 1])
+        xr = x[j, 0] + tj * (x[j + 1, 0] - x[j, 0])
+    else:
+        xr = x[-1, 0]
+    return length, float(xl), float(xr)
+
+
+def fully_sliding(rec: StepRecord) -> bool:
+    """A slide step with contact and no sticking point (DESIGN section 5: the onset test)."""
+    return rec.phase == Phase.SLIDE and rec.ubar != 0.0 and rec.area > 0.0 and not np.any(rec.slip_state == SlipState.STICK)
+
+
+def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
+    """Peak Ft and the onset of full sliding (first slide step with no sticking point in contact)."""
+    slide_recs = [r for r in records if r.phase == Phase.SLIDE]
+    out = {"peak_Ft": math.nan, "onset_ubar": math.nan, "onset_Ft": math.nan, "onset_area": math.nan}
+    if not slide_recs:
+        return out
+    Ft = np.array([r.Ft for r in slide_recs])
+    out["peak_Ft"] = float(Ft[np.argmax(np.abs(Ft))])
+    for r in slide_recs:
+        if fully_sliding(r):
+            out.update(onset_ubar=r.ubar, onset_Ft=r.Ft, onset_area=r.area)
+            break
+    return out
+
+
+ROUND_OFF = 1e-9  # relative changes of area and height at or below this are round-off, not a trend
+
+
+def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
+    """A slide that lost its equilibrium under a tensile load while the contact peeled: over the last ``n`` slide
+    steps the contact area shrank and the substrate rose at every step by more than round-off, and in the last step
+    the contact's width shrank faster than the stage moved (|d area / d ubar| > 1): the approach to a fold, where
+    that rate grows without bound. Shear-induced pull-off: the contact's pull-off force fell below the applied Fn
+    (as in the paper's experiments, where small contacts vanish on shearing). A contact that shrinks slowly under
+    the growing shear (|d area / d ubar| about 0.4 before a slip-weakening snap) is not peeling."""
+    last = [r for r in records[-n:] if r.phase == Phase.SLIDE]
+    if Fn <= 0.0 or len(last) < n:
+        return False
+    area, h, ubar = (np.array([getattr(r, k) for r in last]) for k in ("area", "h", "ubar"))
+    dA, dh, du = np.diff(area), np.diff(h), np.diff(ubar)
+    trend = np.all(dA < -ROUND_OFF * area[1:]) and np.all(dh > ROUND_OFF * np.maximum(1.0, np.abs(h[1:])))
+    return bool(trend and abs(dA[-1]) > abs(du[-1]))

@@ -1,0 +1,1 @@
+"""The discrete cap-on-substrate system: bulk + contact + one load constraint, and its setup from parameters."""

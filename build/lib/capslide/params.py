@@ -1,0 +1,351 @@
+"""Frozen parameter objects built once from a validated configuration.
+
+This is the one place where physical (SI) values become internal units:
+stress in E, length in L0, force per unit width in E L0 (out-of-plane
+width W = 1). Everything downstream works in internal units.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .config import ConfigError
+
+__all__ = [
+    "cgcm_constants",
+    "lame_plane_strain",
+    "Units",
+    "Material",
+    "Adhesion",
+    "Friction",
+    "ContactSpec",
+    "Geometry",
+    "MeshSpec",
+    "Loading",
+    "SolverSpec",
+    "Parameters",
+]
+
+
+def cgcm_constants(T_max: float, W_adh: float) -> dict[str, float]:
+    """CGCM constants from (T_max, W_adh), in any consistent units.
+
+    Inverts the paper's relations (Mergel et al. 2019, eqs. Wadh, gmaxTnmax):
+    W_adh = 15^(1/3) A_H / (16 pi r0^2), T_max = sqrt(5) A_H / (9 pi r0^3),
+    so r0 = (W_adh / T_max) 16 sqrt(5) / (9 15^(1/3)); then
+    T0 = A_H / (2 pi r0^3), g_eq = r0 / 15^(1/6), g_max = r0 / 5^(1/6).
+    """
+    r0 = (W_adh / T_max) * 16.0 * math.sqrt(5.0) / (9.0 * 15.0 ** (1.0 / 3.0))
+    A_H = 9.0 * math.pi * r0**3 * T_max / math.sqrt(5.0)
+    return {
+        "r0": r0,
+        "A_H": A_H,
+        "T0": A_H / (2.0 * math.pi * r0**3),
+        "g_eq": r0 / 15.0 ** (1.0 / 6.0),
+        "g_max": r0 / 5.0 ** (1.0 / 6.0),
+        "T_max": T_max,
+        "W_adh": W_adh,
+    }
+
+
+def lame_plane_strain(E: float, nu: float) -> tuple[float, float]:
+    """Lame constants (Lambda, mu) from Young's modulus and Poisson's ratio; Lambda = inf at nu = 0.5."""
+    lam = math.inf if nu == 0.5 else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    mu = E / (2.0 * (1.0 + nu))
+    return lam, mu
+
+
+@dataclass(frozen=True)
+class Units:
+    """Scales of the internal unit system (SI values)."""
+
+    E: float  # Pa: unit of stress
+    L0: float  # m: unit of length
+
+    @property
+    def force_per_width(self) -> float:
+        """N/m: unit of force per unit out-of-plane width (E L0)."""
+        return self.E * self.L0
+
+    @property
+    def energy_per_area(self) -> float:
+        """J/m^2: unit of work of adhesion (E L0)."""
+        return self.E * self.L0
+
+
+@dataclass(frozen=True)
+class Material:
+    """Plane-strain neo-Hooke bulk, internal units (E = 1)."""
+
+    E: float
+    nu: float
+    lam: float
+    mu: float  # long-time shear modulus with viscous branches
+    prony_g: tuple[float, ...] = ()  # branch shear moduli / mu (material.model = viscoelastic)
+    prony_tau: tuple[float, ...] = ()  # branch relaxation times (s)
+
+
+@dataclass(frozen=True)
+class Adhesion:
+    """CGCM constants in internal units (stress / E, length / L0)."""
+
+    r0: float
+    A_H: float  # E L0^3
+    T0: float
+    g_eq: float
+    g_max: float
+    T_max: float
+    W_adh: float  # E L0
+    g_reg: float
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Friction law parameters in internal units.
+
+    ``g_cut`` is the cut-off of the active model (DI: g_cut_DI, EA:
+    s_cut g_max + (1 - s_cut) g_eq; None when frictionless).
+    """
+
+    model: str
+    tau_DI: float
+    g_cut_DI: float
+    k_DI: float  # 1 / L0
+    mu_EA: float
+    s_cut: float
+    g_cut_EA: float
+    eps_t: float  # E / L0
+    DI_area: str = "current"  # DI's threshold per current or per reference area
+    static_over_kinetic: float = 1.0  # static threshold / kinetic threshold (the law's)
+    slip_weakening_distance: float = 0.1  # L0: slip over which the threshold falls from static to kinetic
+    active_from: str = "slide"  # friction acts from the slide on, or from the first contact
+
+    @property
+    def weakening(self) -> tuple[float, float] | None:
+        """(static/kinetic, slip-weakening distance) when the static threshold exceeds the kinetic one, else None."""
+        return (self.static_over_kinetic, self.slip_weakening_distance) if self.static_over_kinetic > 1.0 else None
+
+    @property
+    def g_cut(self) -> float | None:
+        return {"DI": self.g_cut_DI, "EA": self.g_cut_EA}.get(self.model)
+
+
+@dataclass(frozen=True)
+class ContactSpec:
+    """Contact integral settings in internal units (L0)."""
+
+    far_gap: float
+    repulsion_only: bool
+    area_gap: float
+    normal_traction_area: str = "reference"  # Tn per reference area (theta_k = 1) or per current area (theta_k = J_s)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Cap geometry (L0)."""
+
+    R: float
+    H: float
+
+    @property
+    def half_base(self) -> float:
+        """Half-width of the flat base: sqrt(H (2R - H))."""
+        return math.sqrt(self.H * (2.0 * self.R - self.H))
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    element: str
+    size: float
+    surface_gauss_points: int
+    band_half_width: float | None
+    max_size_over_H: float = 0.25
+    formulation: str = "displacement"  # or "mixed" (Q2/P1, fem.mixed)
+
+
+@dataclass(frozen=True)
+class Loading:
+    preload: float  # Fn* (E L0 W), positive = tensile
+    ubar_max: float  # L0
+    approach_start_gap: float  # L0
+    approach_end_gap: float  # L0
+    approach_step: float  # L0
+    approach_edge_step: float  # L0; 0: no edge-controlled spreading stage
+    force_step: float  # E L0
+    min_force_step: float  # E L0
+    retract_from: float  # E L0
+    slide_step: float  # L0
+    max_slide_step: float  # L0
+    min_slide_step: float  # L0
+    stop_at_onset: bool = False  # end the slide at the onset of full sliding
+    slide_back: bool = False  # after ubar_max, slide back to ubar = 0
+    max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
+    preload_via: tuple[float, ...] = ()  # E L0: forces the preload lands on when it passes them
+    normal_control: str = "force"  # while sliding: force, height or spring
+    spring_stiffness: float | None = None  # E (force per width per length) of normal_control = spring
+    velocity: float | None = None  # L0/s: the stage's speed; None: quasi-static, no time
+    dwell: float = 0.0  # s: hold at the preload before the slide
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    linear: str  # auto, amg, lu_krylov or direct (see capslide.solvers.linsolve.choose_linear_solver)
+    amg_above_dofs: int
+    newton_rtol: float
+    newton_atol: float
+    newton_max_iterations: int
+    krylov_rtol: float
+    factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
+
+
+def _check_path_time(L: Loading, velocity_si: float | None) -> None:
+    """ConfigError when the stage's speed makes the path's times (s) overflow: every leg's length (L0) over the
+    speed (L0/s), and the dwell, must add up to a finite time."""
+    if L.velocity is None:
+        return
+    length = (L.approach_start_gap + L.approach_edge_step + abs(L.ubar_max) * (2.0 if L.slide_back else 1.0)
+              + 2.0 * (abs(L.retract_from) + abs(L.preload) + sum(abs(v) for v in L.preload_via)) + 1.0)
+    with np.errstate(over="ignore", divide="ignore"):
+        total = np.float64(length) / np.float64(L.velocity) + L.dwell
+    if not (L.velocity > 0.0 and math.isfinite(total)):
+        raise ConfigError(f"loading.velocity = {velocity_si!r} is not allowed: the path of about {length:.3g} L0 would "
+                          "take an infinite time at it (give a speed whose times are finite)")
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """Everything a computation needs, in internal units, plus the config."""
+
+    units: Units
+    material: Material
+    adhesion: Adhesion
+    friction: Friction
+    contact: ContactSpec
+    geometry: Geometry
+    mesh: MeshSpec
+    loading: Loading
+    solver: SolverSpec
+    config: Mapping[str, Any] = field(repr=False, compare=False)
+
+    @classmethod
+    def from_config(cls, config: Mapping[str, Any]) -> Parameters:
+        """Build from a *validated* configuration (see :func:`capslide.config.validate`)."""
+        mat, adh, fr = config["material"], config["adhesion"], config["friction"]
+        geo, msh, load, sol = config["geometry"], config["mesh"], config["loading"], config["solver"]
+        units = Units(E=float(mat["E"]), L0=float(geo["L0"]))
+        lam, mu = lame_plane_strain(1.0, float(mat["nu"]))
+        try:
+            c = cgcm_constants(adh["T_max"] / units.E, adh["W_adh"] / units.energy_per_area)
+            bad = next((k for k, v in c.items() if not (math.isfinite(v) and v > 0.0)), None)
+        except (ZeroDivisionError, OverflowError):
+            c, bad = {"r0": math.nan}, "r0"
+        if bad is not None:  # finite inputs whose ratios over- or underflow in internal units
+            raise ConfigError(f"adhesion.T_max = {adh['T_max']!r}, adhesion.W_adh = {adh['W_adh']!r}, material.E = "
+                              f"{mat['E']!r} and geometry.L0 = {geo['L0']!r} give {bad} = {c[bad]!r} in units of E and "
+                              "L0: not computable")
+        adhesion = Adhesion(
+            r0=c["r0"], A_H=c["A_H"], T0=c["T0"], g_eq=c["g_eq"], g_max=c["g_max"],
+            T_max=c["T_max"], W_adh=c["W_adh"], g_reg=adh["g_reg_over_g_eq"] * c["g_eq"],
+        )
+        s_cut = float(fr["s_cut"])
+        friction = Friction(
+            model=fr["model"],
+            tau_DI=fr["mu_DI"] * c["T_max"],
+            g_cut_DI=fr["g_cut_DI_over_g_max"] * c["g_max"],
+            k_DI=fr["k_DI_times_r0"] / c["r0"],
+            mu_EA=float(fr["mu_EA"]),
+            s_cut=s_cut,
+            g_cut_EA=s_cut * c["g_max"] + (1.0 - s_cut) * c["g_eq"],
+            eps_t=float(fr["eps_t"]),
+            DI_area=fr["DI_area"],
+            static_over_kinetic=float(fr["static_over_kinetic"]),
+            slip_weakening_distance=float(fr["slip_weakening_distance"]),
+            active_from=fr["active_from"],
+        )
+        loading = Loading(
+            preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),
+            approach_start_gap=load["approach_start_gap_over_r0"] * c["r0"],
+            approach_end_gap=load["approach_end_gap_over_g_eq"] * c["g_eq"],
+            approach_step=load["approach_step_over_r0"] * c["r0"],
+            approach_edge_step=float(load["approach_edge_step"]),
+            force_step=float(load["force_step"]), min_force_step=float(load["min_force_step"]),
+            retract_from=float(load["retract_from"]),
+            slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
+            min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
+            slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
+            normal_control=load["normal_control"],
+            spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
+            velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
+            dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
+        )
+        _check_path_time(loading, load["velocity"])
+        return cls(
+            units=units,
+            material=Material(E=1.0, nu=float(mat["nu"]), lam=lam, mu=mu,
+                              prony_g=tuple(float(b["g"]) for b in mat["prony"]),
+                              prony_tau=tuple(float(b["tau"]) for b in mat["prony"])),
+            adhesion=adhesion,
+            friction=friction,
+            contact=ContactSpec(
+                far_gap=config["contact"]["far_gap_over_r0"] * c["r0"],
+                repulsion_only=bool(config["contact"]["repulsion_only"]),
+                area_gap=config["contact"]["area_gap_over_g_max"] * c["g_max"],
+                normal_traction_area=config["contact"]["normal_traction_area"],
+            ),
+            geometry=Geometry(R=float(geo["R"]), H=float(geo["H"])),
+            mesh=MeshSpec(
+                element=msh["element"], size=float(msh["size"]),
+                surface_gauss_points=int(msh["surface_gauss_points"]),
+                band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
+                max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
+            ),
+            loading=loading,
+            solver=SolverSpec(
+                linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
+                newton_atol=float(sol["newton_atol"]),
+                newton_max_iterations=int(sol["newton_max_iterations"]),
+                krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
+            ),
+            config=config,
+        )
+
+    def derived_constants(self) -> dict[str, dict[str, float]]:
+        """CGCM and friction constants, internal and SI (for ``capslide constants``)."""
+        a, f, u = self.adhesion, self.friction, self.units
+        internal = {
+            "r0": a.r0, "A_H": a.A_H, "T0": a.T0, "g_eq": a.g_eq, "g_max": a.g_max,
+            "T_max": a.T_max, "W_adh": a.W_adh, "g_reg": a.g_reg,
+            "tau_DI": f.tau_DI, "g_cut_DI": f.g_cut_DI, "k_DI": f.k_DI, "g_cut_EA": f.g_cut_EA,
+            "eps_t": f.eps_t, "Lambda": self.material.lam, "mu": self.material.mu,
+        }
+        dims = {  # powers of (E, L0) of each constant
+            "r0": (0, 1), "A_H": (1, 3), "T0": (1, 0), "g_eq": (0, 1), "g_max": (0, 1),
+            "T_max": (1, 0), "W_adh": (1, 1), "g_reg": (0, 1), "tau_DI": (1, 0),
+            "g_cut_DI": (0, 1), "k_DI": (0, -1), "g_cut_EA": (0, 1), "eps_t": (1, -1),
+            "Lambda": (1, 0), "mu": (1, 0),
+        }
+        si_units = {(0, 1): "m", (1, 3): "J m", (1, 0): "Pa", (1, 1): "J/m^2", (0, -1): "1/m", (1, -1): "Pa/m"}
+        si = {k: v * u.E ** dims[k][0] * u.L0 ** dims[k][1] for k, v in internal.items()}
+        return {
+            "internal": internal,
+            "internal_units": {k: _internal_unit(*dims[k]) for k in internal},
+            "SI": si,
+            "SI_units": {k: si_units[dims[k]] for k in internal},
+        }
+
+
+def _internal_unit(e_pow: int, l_pow: int) -> str:
+    parts = []
+    if e_pow:
+        parts.append("E")
+    if l_pow == 1:
+        parts.append("L0")
+    elif l_pow > 1:
+        parts.append(f"L0^{l_pow}")
+    text = " ".join(parts) or "1"
+    return f"{text}/L0" if l_pow == -1 else text
