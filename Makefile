@@ -1,7 +1,7 @@
 # Two entry points for a fresh machine (Python 3.11, no venv yet):
 #   make reproduce   set up .venv and run the full Snakemake reproduction
 #   make test        set up .venv and run the default test suite
-#   make convergence set up .venv and run the speed-against-error study (results/studies/convergence/)
+#   make convergence set up .venv and run the speed-against-error study (results/paper/studies/convergence/)
 #   make test-slurm  the smoke workflow through a local single-node SLURM (root)
 PYTHON ?= python3
 VENV   := .venv

@@ -1,5 +1,5 @@
 # capslide: reproduce the numerical study of Mergel, Sahli, Scheibert, Sauer (2019).
-#   snakemake --cores 2                      full reproduction (results/)
+#   snakemake --cores 2                      full reproduction (results/paper/: a folder per configuration)
 #   snakemake --cores 2 --configfile X.yaml  the same with X.yaml merged on top
 from snakemake.utils import min_version
 
@@ -32,6 +32,7 @@ include: "workflow/rules/report_config.smk"
 # Jobs of seconds run where Snakemake runs, not as cluster jobs.
 localrules:
     all,
+    cases,
     model_figure,
     mesh,
     cap_setup_figure,
@@ -58,8 +59,18 @@ rule all:
     default_target: True
     input:
         model_figures=MODEL_FIGURE_FILES,
-        cap_setup=["results/figures/cap_setup.pdf", "results/figures/cap_setup.png"],
+        cap_setup=[result("figures/cap_setup.pdf"), result("figures/cap_setup.png")],
         cases=CASE_FILES,
-        collected="results/cases.nc",
+        collected=result("cases.nc"),
         cap_figures=CAP_FIGURE_FILES,
-        config="results/config.yaml",
+        config=result("config.yaml"),
+
+
+# The study's cases and their cube, without figures: snakemake --cores 2 cases (under results/NAME/, NAME as above)
+rule cases:
+    input:
+        result("cases.nc"),
+
+
+onstart:
+    print(f"capslide: this configuration writes to {RESULTS}/ and logs/{RESULTS_NAME}/")

@@ -51,11 +51,13 @@ def smoke_study(repo: Path, out: Path) -> None:
             src = repo / name
             (shutil.copytree(src, work / name, symlinks=True) if src.is_dir() else shutil.copy(src, work / name))
         snakemake = Path(sys.executable).with_name("snakemake")
-        subprocess.run([str(snakemake), "--cores", "2", "results/cases.nc", "--configfile", "config/smoke.yaml"],
+        target = "cases" if "rule cases:" in (work / "Snakefile").read_text() else "results/cases.nc"  # older layouts
+        subprocess.run([str(snakemake), "--cores", "2", target, "--configfile", "config/smoke.yaml"],
                        cwd=work, env=env_for(repo), check=True)
+        (results,) = {p.parent for p in (work / "results").glob("**/cases.nc")}  # results/ or results/NAME/
         (out / "smoke").mkdir(parents=True, exist_ok=True)
-        shutil.copy(work / "results" / "cases.nc", out / "smoke" / "cases.nc")
-        for f in (work / "results" / "cases").glob("*.nc"):
+        shutil.copy(results / "cases.nc", out / "smoke" / "cases.nc")
+        for f in (results / "cases").glob("*.nc"):
             shutil.copy(f, out / "smoke" / f.name)
 
 

@@ -3,9 +3,9 @@ quantities of interest of two result trees side by side.
 
     .venv/bin/python benchmarks/speed.py reproduce --repo ../clone-a --repo ../clone-b --repeats 3
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/speed.py case
-    .venv/bin/python benchmarks/speed.py qoi ../clone-a/results/cases results/cases
-    .venv/bin/python benchmarks/speed.py onset ../clone-a/results/cases results/cases
-    .venv/bin/python benchmarks/speed.py iterations ../clone-a/results/cases results/cases
+    .venv/bin/python benchmarks/speed.py qoi ../clone-a/results/paper/cases results/paper/cases
+    .venv/bin/python benchmarks/speed.py onset ../clone-a/results/paper/cases results/paper/cases
+    .venv/bin/python benchmarks/speed.py iterations ../clone-a/results/paper/cases results/paper/cases
     .venv/bin/python benchmarks/speed.py timeline ../clone-a/.snakemake/log/*.snakemake.log
 
 ``reproduce`` runs ``snakemake --cores 2`` in each clone (after ``make setup`` there) with ``results/``, ``logs/``

@@ -20,7 +20,7 @@ def test_dry_run_is_clean(workdir):
 def test_preset_file_reaches_every_case_and_the_convergence_target_plans(workdir):
     """--configfile config/presets/fast.yaml is passed on to each case's capslide run; the convergence target
     plans one job per distinct run of config/convergence.yaml and the table."""
-    res = snakemake(workdir, "results/cases/DI_Fn+0.000.nc", "-n", "-p", "--configfile", "config/presets/fast.yaml")
+    res = snakemake(workdir, "results/fast/cases/DI_Fn+0.000.nc", "-n", "-p", "--configfile", "config/presets/fast.yaml")
     assert res.returncode == 0, res.stderr[-2000:]
     assert re.search(r"capslide run --resume config/config\.yaml \S*config/presets/fast\.yaml", res.stdout), res.stdout[-2000:]
     conv = snakemake(workdir, "-n", "convergence")
@@ -36,8 +36,8 @@ def test_the_normal_states_form_one_chain(workdir):
     def chain(*args):
         res = snakemake(workdir, "-n", "-p", *args)
         assert res.returncode == 0, res.stderr[-2000:]
-        runs = re.findall(r"capslide preload .*?(?:--from-state results/states/Fn(\S+)\.npz )?-o results/states/Fn(\S+)\.npz",
-                          res.stdout)
+        runs = re.findall(r"capslide preload .*?(?:--from-state results/[\w-]+/states/Fn(\S+)\.npz )?"
+                          r"-o results/[\w-]+/states/Fn(\S+)\.npz", res.stdout)
         return {state: start or None for start, state in runs}
     assert chain() == {"+0.000": None, "-0.144": "+0.000", "-0.288": "-0.144", "+0.144": "-0.288",
                        "+0.288": "+0.144"}
@@ -58,12 +58,12 @@ def test_slurm_profile_parses(workdir):
 
 
 def test_model_figures_render(workdir):
-    res = snakemake(workdir, "results/figures/Tn.png", "results/figures/exp_FnJKR.pdf")
+    res = snakemake(workdir, "results/paper/figures/Tn.png", "results/paper/figures/exp_FnJKR.pdf")
     assert res.returncode == 0, res.stdout + res.stderr
     for name in ("Tn.png", "Tn.pdf", "exp_FnJKR.pdf", "exp_FnJKR.png"):
-        assert (workdir / "results" / "figures" / name).stat().st_size > 5000
-    assert (workdir / "logs" / "figures" / "Tn.log").exists()
-    assert (workdir / "results" / "benchmarks" / "figures" / "Tn.tsv").exists()
+        assert (workdir / "results" / "paper" / "figures" / name).stat().st_size > 5000
+    assert (workdir / "logs" / "paper" / "figures" / "Tn.log").exists()
+    assert (workdir / "results" / "paper" / "benchmarks" / "figures" / "Tn.tsv").exists()
 
 
 @pytest.mark.parametrize("overlay, message", [
@@ -86,14 +86,12 @@ def test_a_bad_study_spec_is_refused_when_the_workflow_is_parsed(workdir):
 
 def test_config_values_reach_the_runs(workdir):
     """--config NAME=VALUE, nested values included, is passed on to capslide run; a non-finite one is refused."""
-    res = snakemake(workdir, "-n", "-p", "results/cases/DI_Fn+0.000.nc", "--config", "preset=fast",
-                    "friction={s_cut: 0.5, eps_t: 200}")
+    res = snakemake(workdir, "-n", "-p", "cases", "--config", "preset=fast", "friction={s_cut: 0.5, eps_t: 200}")
     assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
     assert "--set preset=fast --set friction.s_cut=0.5 --set friction.eps_t=200" in res.stdout
     # a model given on the command line: its dotted keys reach its runs as keys, not as a section that replaces
     # the whole friction section of the config files
-    res = snakemake(workdir, "-n", "-p", "results/cases/X_Fn+0.000.nc", "--config",
-                    "study={models: {X: {friction.mu_DI: 0.5}}, preloads: [0.0]}")
+    res = snakemake(workdir, "-n", "-p", "cases", "--config", "study={models: {X: {friction.mu_DI: 0.5}}, preloads: [0.0]}")
     assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
     assert "--set friction.mu_DI=0.5 --set loading.preload=0.0" in res.stdout and "friction={" not in res.stdout
     res = snakemake(workdir, "-n", "--config", "friction={s_cut: .nan}")
@@ -106,7 +104,8 @@ def test_smoke_workflow_end_to_end(workdir):
 
     res = snakemake(workdir, "--configfile", "config/smoke.yaml")
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
-    results = workdir / "results"
+    (results,) = (workdir / "results").glob("fast-*")  # the smoke configuration's own folder
+    logs = workdir / "logs" / results.name
     cases = sorted((results / "cases").glob("*.nc"))
     assert [p.name for p in cases] == ["DI_Fn+0.000.nc", "EA0_Fn+0.000.nc", "EA1_Fn+0.000.nc"]
     with xr.open_dataset(results / "cases.nc") as ds:
@@ -122,7 +121,9 @@ def test_smoke_workflow_end_to_end(workdir):
             with xr.open_dataset(path) as ds:
                 assert "software_version" in ds.attrs and "config_yaml" in {*ds.attrs, *ds.variables}, path.name
                 check_cf(ds, path.name)
+    (workdir / "results" / "paper").symlink_to(results.name)  # the examples name the reproduction's folder
     run_documented_examples(workdir)
+    (workdir / "results" / "paper").unlink()
     for name in ("Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR", "cap_setup", "cap_PxAndAc", "cap_PxOverAc",
                  "cap_FtOverA", "cap_Aczoom", "cap_xn"):
         for ext in ("pdf", "png"):
@@ -158,26 +159,26 @@ def test_smoke_workflow_end_to_end(workdir):
                                  env=env, capture_output=True, text=True, start_new_session=True,
                                  preexec_fn=default_sigint, timeout=600)
     assert interrupted.returncode != 0
-    assert "capslide: interrupted" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()
+    assert "capslide: interrupted" in (logs / "cases" / "EA0_Fn+0.000.log").read_text()
     assert not (results / "cases" / "EA0_Fn+0.000.nc").exists()
     assert not list((results / "cases").glob(".*tmp*"))
     assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_dir()  # saved at step 20
     rerun = snakemake(workdir, "--configfile", "config/smoke.yaml")
     assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
-    assert "resuming from" in (workdir / "logs" / "cases" / "EA0_Fn+0.000.log").read_text()
+    assert "resuming from" in (logs / "cases" / "EA0_Fn+0.000.log").read_text()
     with xr.open_dataset(results / "cases" / "EA0_Fn+0.000.nc") as ds:
         assert ds.attrs["status"] == "completed"
 
 
 def run_documented_examples(workdir):
-    """Every Python example of README.md and docs/data.md, run where the smoke study's results are; the examples
+    """Every Python example of README.md, docs/data.md and docs/cli.md, run where the smoke study's results are; the examples
     of one document share a namespace, as they do for a reader going down the page."""
     import matplotlib
 
     matplotlib.use("Agg")
     docs = {doc: [block.split("```", 1)[0] for block in (ROOT / doc).read_text().split("```python\n")[1:]]
-            for doc in ("README.md", "docs/data.md")}
-    assert sum(map(len, docs.values())) >= 5
+            for doc in ("README.md", "docs/data.md", "docs/cli.md")}
+    assert sum(map(len, docs.values())) >= 4
     cwd = os.getcwd()
     os.chdir(workdir)
     try:
@@ -194,3 +195,18 @@ def _job_counts(dry_run_output: str) -> dict[str, int]:
     table = dry_run_output.split("Job stats:")[1].split("\n\n")[0]
     rows = (re.match(r"^(\w+)\s+(\d+)$", line.strip()) for line in table.splitlines())
     return {m[1]: int(m[2]) for m in rows if m and m[1] != "total"}
+
+
+def test_configurations_never_share_results(workdir):
+    """A case of the fast preset, then the smoke study: each writes its own folder (results/fast/, results/fast-*/),
+    the fast files stay untouched, and neither uses the other's normal state."""
+    fast = snakemake(workdir, "results/fast/cases/DI_Fn+0.000.nc", "--config", "preset=fast")
+    assert fast.returncode == 0, fast.stdout[-2000:] + fast.stderr[-2000:]
+    before = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
+    assert {p.name for p in before} >= {"DI_Fn+0.000.nc", "Fn+0.000.npz"}
+    smoke = snakemake(workdir, "--configfile", "config/smoke.yaml", "-p")
+    assert smoke.returncode == 0, smoke.stdout[-2000:] + smoke.stderr[-2000:]
+    (smoke_dir,) = (workdir / "results").glob("fast-*")
+    assert "results/fast/" not in smoke.stdout and (smoke_dir / "states" / "Fn+0.000.npz").exists()
+    after = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
+    assert after == before

@@ -149,5 +149,5 @@ echo "${#SUBMITTED[@]} jobs submitted with sbatch, each COMPLETED with exit code
 
 say "results: SLURM run against local run"
 "$BIN/python" "$ROOT/benchmarks/compare_results.py" "$S/local/results" "$S/cluster/results" --rtol 0
-cmp "$S/local/results/config.yaml" "$S/cluster/results/config.yaml" && echo "results/config.yaml identical"
+cmp "$S"/local/results/*/config.yaml "$S"/cluster/results/*/config.yaml && echo "results/NAME/config.yaml identical"
 say "test-slurm passed"

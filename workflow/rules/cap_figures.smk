@@ -12,28 +12,28 @@ SNAPSHOT_CASE = next(
     None,
 )
 CAP_FIGURE_FILES = expand(
-    "results/figures/{name}.{ext}", name=CAP_FIGURES, ext=["pdf", "png"]
+    result("figures/{name}.{ext}"), name=CAP_FIGURES, ext=["pdf", "png"]
 )
 if SNAPSHOT_CASE is not None:
     CAP_FIGURE_FILES += expand(
-        "results/figures/{name}.{ext}", name=CASE_FIGURES, ext=["pdf", "png"]
+        result("figures/{name}.{ext}"), name=CASE_FIGURES, ext=["pdf", "png"]
     )
 
 
 rule cap_figure:
     input:
-        "results/cases.nc",
+        result("cases.nc"),
     output:
-        pdf="results/figures/{name}.pdf",
+        pdf=result("figures/{name}.pdf"),
         png=report(
-            "results/figures/{name}.png",
+            result("figures/{name}.png"),
             caption="../report/cap_figure.rst",
             category="Cap: sliding",
         ),
     log:
-        "logs/figures/{name}.log",
+        logged("figures/{name}.log"),
     benchmark:
-        "results/benchmarks/figures/{name}.tsv"
+        result("benchmarks/figures/{name}.tsv")
     wildcard_constraints:
         name="|".join(CAP_FIGURES),
     conda:
@@ -48,18 +48,18 @@ rule cap_figure:
 
 rule case_figure:
     input:
-        f"results/cases/{SNAPSHOT_CASE}.nc",
+        result(f"cases/{SNAPSHOT_CASE}.nc"),
     output:
-        pdf="results/figures/{name}.pdf",
+        pdf=result("figures/{name}.pdf"),
         png=report(
-            "results/figures/{name}.png",
+            result("figures/{name}.png"),
             caption="../report/case_figure.rst",
             category="Cap: sliding",
         ),
     log:
-        "logs/figures/{name}.log",
+        logged("figures/{name}.log"),
     benchmark:
-        "results/benchmarks/figures/{name}.tsv"
+        result("benchmarks/figures/{name}.tsv")
     wildcard_constraints:
         name="|".join(CASE_FIGURES),
     conda:
@@ -75,16 +75,16 @@ rule case_figure:
 # snakemake --cores 2 paraview: every case's field snapshots as .vtu series with a .pvd index (optional target).
 rule paraview:
     input:
-        expand("results/paraview/{case}/{case}.pvd", case=sorted(CASES)),
+        expand(result("paraview/{case}/{case}.pvd"), case=sorted(CASES)),
 
 
 rule vtk_export:
     input:
-        "results/cases/{case}.nc",
+        result("cases/{case}.nc"),
     output:
-        "results/paraview/{case}/{case}.pvd",
+        result("paraview/{case}/{case}.pvd"),
     log:
-        "logs/paraview/{case}.log",
+        logged("paraview/{case}.log"),
     wildcard_constraints:
         case="|".join(re.escape(c) for c in CASES) if CASES else "none",
     conda:
@@ -94,4 +94,4 @@ rule vtk_export:
         mem_mb=2000,
         runtime=10,
     shell:
-        f"{THREADS_ENV} {CAPSLIDE} vtk {{input}} -o results/paraview/{{wildcards.case}} > {{log}} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} vtk {{input}} -o {RESULTS}/paraview/{{wildcards.case}} > {{log}} 2>&1"

@@ -8,7 +8,7 @@
 STUDY = config["study"]
 CASES = expand_study(STUDY, "study", "config")  # case name -> overrides
 CASE_FILES = expand(
-    "results/cases/{case}.nc", case=list(CASES)
+    result("cases/{case}.nc"), case=list(CASES)
 )  # study order: the cube's model order
 SHARED_PRELOADS = {
     case: f"{sets['loading.preload']:+.3f}"
@@ -16,9 +16,9 @@ SHARED_PRELOADS = {
     if shares_normal_state(config, sets)
 }
 RETRACT_FROM = f"{config['loading']['retract_from']:+.3f}"
-STATE_FILE = (
-    "results/states/Fn{preload}.npz"  # the normal state at a preload (formatted +0.000)
-)
+STATE_FILE = result(
+    "states/Fn{preload}.npz"
+)  # the normal state at a preload (formatted +0.000)
 STATE_PRELOADS = {  # file name -> the exact preload of its cases
     SHARED_PRELOADS[case]: CASES[case]["loading.preload"] for case in SHARED_PRELOADS
 }
@@ -43,9 +43,9 @@ rule normal_state:
     output:
         STATE_FILE,
     log:
-        "logs/states/Fn{preload}.log",
+        logged("states/Fn{preload}.log"),
     benchmark:
-        "results/benchmarks/states/Fn{preload}.tsv"
+        result("benchmarks/states/Fn{preload}.tsv")
     wildcard_constraints:
         preload=(
             "|".join(re.escape(p) for p in STATE_PRELOADS)
@@ -80,11 +80,11 @@ rule run_case:
             else []
         ),
     output:
-        "results/cases/{case}.nc",
+        result("cases/{case}.nc"),
     log:
-        "logs/cases/{case}.log",
+        logged("cases/{case}.log"),
     benchmark:
-        "results/benchmarks/cases/{case}.tsv"
+        result("benchmarks/cases/{case}.tsv")
     wildcard_constraints:
         case="|".join(re.escape(c) for c in CASES) if CASES else "none",
     priority: lambda wildcards: case_priority(CASES[wildcards.case])

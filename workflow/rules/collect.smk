@@ -1,15 +1,15 @@
-# Stack every case of the study into results/cases.nc (coordinates model, s_cut, preload).
+# Stack every case of the study into results/<config>/cases.nc (coordinates model, s_cut, preload).
 
 
 rule collect:
     input:
         CASE_FILES,
     output:
-        "results/cases.nc",
+        result("cases.nc"),
     log:
-        "logs/collect.log",
+        logged("collect.log"),
     benchmark:
-        "results/benchmarks/collect.tsv"
+        result("benchmarks/collect.tsv")
     conda:
         ENV
     threads: 1

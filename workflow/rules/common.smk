@@ -17,7 +17,12 @@ from capslide.config import (
     validate,
 )
 from capslide.loadpath.preload_targets import previous_target
-from capslide.studies.expansion import check_runs, runs, shares_normal_state
+from capslide.studies.expansion import (
+    check_runs,
+    results_name,
+    runs,
+    shares_normal_state,
+)
 from capslide.version import source_digest
 from snakemake.exceptions import WorkflowError
 
@@ -35,6 +40,24 @@ try:
     )  # the schema of workflow/schemas/config.schema.yaml
 except ConfigError as err:
     raise WorkflowError(f"config error: {err}") from None
+
+# Every run writes under results/NAME/ and logs/NAME/, NAME named for its configuration: the preset when the
+# configuration is the packaged study at that preset (results/paper/ for `snakemake --cores 2`), else the preset and
+# a digest of the validated configuration (results/fast-1a2b3c4d/ for config/smoke.yaml). Runs of different
+# configurations never touch each other's files.
+RESULTS_NAME = results_name(config)
+RESULTS = f"results/{RESULTS_NAME}"
+
+
+def result(path):
+    """``path`` under this configuration's results folder."""
+    return f"{RESULTS}/{path}"
+
+
+def logged(path):
+    """``path`` under this configuration's log folder."""
+    return f"logs/{RESULTS_NAME}/{path}"
+
 
 # Jobs call the capslide command of the Python that runs Snakemake (the project's .venv): its bin directory goes
 # first on the PATH the jobs inherit, so rule commands (and the report) name no local path.

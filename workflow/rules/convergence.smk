@@ -1,11 +1,11 @@
 # snakemake --cores 2 convergence: speed against error (config/convergence.yaml; issue 7).
-# Not part of the default reproduction; outputs under results/studies/convergence/.
+# Not part of the default reproduction; outputs under results/<config>/studies/convergence/.
 CONVERGENCE_SPEC = "config/convergence.yaml"
 CONVERGENCE = read_spec(CONVERGENCE_SPEC)
 CONVERGENCE_RUNS = expand_study(
     CONVERGENCE, "convergence", CONVERGENCE_SPEC
 )  # "{case}/{run}" -> overrides
-CONVERGENCE_DIR = "results/studies/convergence"
+CONVERGENCE_DIR = result("studies/convergence")
 CONVERGENCE_FILES = sorted(
     f"{CONVERGENCE_DIR}/cases/{run}.nc" for run in CONVERGENCE_RUNS
 )
@@ -30,9 +30,9 @@ rule convergence_case:
     output:
         f"{CONVERGENCE_DIR}/cases/{{run}}.nc",
     log:
-        f"logs/convergence/{{run}}.log",
+        logged(f"convergence/{{run}}.log"),
     benchmark:
-        f"results/benchmarks/convergence/{{run}}.tsv"
+        result(f"benchmarks/convergence/{{run}}.tsv")
     wildcard_constraints:
         run="|".join(re.escape(r) for r in sorted(CONVERGENCE_RUNS)),
     priority: lambda wildcards: 10 if wildcards.run in CONVERGENCE_LONG else 0
@@ -68,7 +68,7 @@ rule convergence_table:
             category="Convergence",
         ),
     log:
-        "logs/convergence/table.log",
+        logged("convergence/table.log"),
     conda:
         ENV
     threads: 1

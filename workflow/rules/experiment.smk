@@ -1,11 +1,11 @@
 # snakemake --cores 2 experiment: does a viscous bulk give the experiment's features (issue 18, docs/experiment.md)?
 # DI and EA1 at zero load, elastic against viscoelastic at Deborah numbers 0.1, 1 and 10, at fixed force and on
 # the experiment-scaled spring (config/experiment.yaml). Not part of the default reproduction; outputs under
-# results/studies/experiment/. Every run preloads itself: a viscous bulk's approach and preload take time.
+# results/<config>/studies/experiment/. Every run preloads itself: a viscous bulk's approach and preload take time.
 EXPERIMENT_SPEC = "config/experiment.yaml"
 EXPERIMENT = read_spec(EXPERIMENT_SPEC)
 EXPERIMENT_RUNS = expand_study(EXPERIMENT, "experiment", EXPERIMENT_SPEC)
-EXPERIMENT_DIR = "results/studies/experiment"
+EXPERIMENT_DIR = result("studies/experiment")
 EXPERIMENT_CONTROLS = sorted({o.split("_")[0] for o in EXPERIMENT["options"]})
 EXPERIMENT_FIGURES = [
     f"{EXPERIMENT_DIR}/{name}.{ext}"
@@ -30,9 +30,9 @@ rule experiment_case:
     output:
         f"{EXPERIMENT_DIR}/cases/{{run}}.nc",
     log:
-        f"logs/experiment/{{run}}.log",
+        logged(f"experiment/{{run}}.log"),
     benchmark:
-        f"results/benchmarks/experiment/{{run}}.tsv"
+        result(f"benchmarks/experiment/{{run}}.tsv")
     wildcard_constraints:
         run="|".join(re.escape(r) for r in sorted(EXPERIMENT_RUNS)),
     conda:
@@ -76,7 +76,7 @@ rule experiment_table:
             for f in EXPERIMENT_FIGURES
         ],
     log:
-        "logs/experiment/table.log",
+        logged("experiment/table.log"),
     conda:
         ENV
     threads: 1

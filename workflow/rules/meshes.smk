@@ -1,5 +1,5 @@
-# Meshes of the study (results/meshes/*.nc) and the setup figure f:cap:setup.
-STUDY_MESH = "results/meshes/cap_{element}_size{size}.nc".format(
+# Meshes of the study (results/<config>/meshes/*.nc) and the setup figure f:cap:setup.
+STUDY_MESH = result("meshes/cap_{element}_size{size}.nc").format(
     element=config["mesh"]["element"], size=config["mesh"]["size"]
 )
 
@@ -8,11 +8,11 @@ rule mesh:
     input:
         CONFIG_FILES,
     output:
-        "results/meshes/cap_{element}_size{size}.nc",
+        result("meshes/cap_{element}_size{size}.nc"),
     log:
-        "logs/meshes/cap_{element}_size{size}.log",
+        logged("meshes/cap_{element}_size{size}.log"),
     benchmark:
-        "results/benchmarks/meshes/cap_{element}_size{size}.tsv"
+        result("benchmarks/meshes/cap_{element}_size{size}.tsv")
     wildcard_constraints:
         element="Q1|Q2",
         size=r"[0-9.]+",
@@ -30,16 +30,16 @@ rule cap_setup_figure:
     input:
         STUDY_MESH,
     output:
-        pdf="results/figures/cap_setup.pdf",
+        pdf=result("figures/cap_setup.pdf"),
         png=report(
-            "results/figures/cap_setup.png",
+            result("figures/cap_setup.png"),
             caption="../report/cap_setup.rst",
             category="Cap: sliding",
         ),
     log:
-        "logs/figures/cap_setup.log",
+        logged("figures/cap_setup.log"),
     benchmark:
-        "results/benchmarks/figures/cap_setup.tsv"
+        result("benchmarks/figures/cap_setup.tsv")
     conda:
         ENV
     threads: 1

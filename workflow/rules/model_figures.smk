@@ -1,7 +1,7 @@
 # Model and experiment figures of the paper, drawn from the contact laws.
 MODEL_FIGURES = ["Tn", "modelCA", "modelAM", "TnTt", "exp_FnJKR"]
 MODEL_FIGURE_FILES = expand(
-    "results/figures/{name}.{ext}", name=MODEL_FIGURES, ext=["pdf", "png"]
+    result("figures/{name}.{ext}"), name=MODEL_FIGURES, ext=["pdf", "png"]
 )
 
 
@@ -9,16 +9,16 @@ rule model_figure:
     input:
         CONFIG_FILES,
     output:
-        pdf="results/figures/{name}.pdf",
+        pdf=result("figures/{name}.pdf"),
         png=report(
-            "results/figures/{name}.png",
+            result("figures/{name}.png"),
             caption="../report/model_figure.rst",
             category="Contact models",
         ),
     log:
-        "logs/figures/{name}.log",
+        logged("figures/{name}.log"),
     benchmark:
-        "results/benchmarks/figures/{name}.tsv"
+        result("benchmarks/figures/{name}.tsv")
     wildcard_constraints:
         name="|".join(MODEL_FIGURES),
     conda:

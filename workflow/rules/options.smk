@@ -1,12 +1,12 @@
 # snakemake --cores 2 options: each option beyond the paper switched on alone (config/options.yaml,
-# docs/options.md). Not part of the default reproduction; outputs under results/studies/options/.
+# docs/options.md). Not part of the default reproduction; outputs under results/<config>/studies/options/.
 # Runs whose overrides act only from the slide on start from the reproduction's normal state at their preload.
 OPTIONS_SPEC = "config/options.yaml"
 OPTIONS = read_spec(OPTIONS_SPEC)
 OPTIONS_RUNS = expand_study(
     OPTIONS, "options", OPTIONS_SPEC
 )  # "{model}_{option}" -> overrides
-OPTIONS_DIR = "results/studies/options"
+OPTIONS_DIR = result("studies/options")
 
 
 OPTIONS_SHARED = {  # run -> the preload of the normal state it starts from
@@ -25,7 +25,7 @@ rule options:
             name=["forces", "edges"],
             ext=["pdf", "png"],
         ),
-        expand("results/figures/cap_FtOverA.{ext}", ext=["pdf", "png"]),
+        expand(result("figures/cap_FtOverA.{ext}"), ext=["pdf", "png"]),
 
 
 rule options_case:
@@ -39,9 +39,9 @@ rule options_case:
     output:
         f"{OPTIONS_DIR}/cases/{{run}}.nc",
     log:
-        f"logs/options/{{run}}.log",
+        logged(f"options/{{run}}.log"),
     benchmark:
-        f"results/benchmarks/options/{{run}}.tsv"
+        result(f"benchmarks/options/{{run}}.tsv")
     wildcard_constraints:
         run="|".join(re.escape(r) for r in sorted(OPTIONS_RUNS)),
     conda:
@@ -84,7 +84,7 @@ rule options_table:
             category="Options beyond the paper",
         ),
     log:
-        "logs/options/table.log",
+        logged("options/table.log"),
     conda:
         ENV
     threads: 1

@@ -1,4 +1,4 @@
-# The configuration this run used, as validated (presets applied, defaults filled): results/config.yaml, in the report.
+# The configuration this run used, as validated (presets applied, defaults filled): results/<config>/config.yaml, in the report.
 
 
 rule effective_config:
@@ -6,12 +6,12 @@ rule effective_config:
         CONFIG_FILES,
     output:
         report(
-            "results/config.yaml",
+            result("config.yaml"),
             caption="../report/config.rst",
             category="Configuration",
         ),
     log:
-        "logs/config.log",
+        logged("config.log"),
     conda:
         ENV
     threads: 1

@@ -1,5 +1,5 @@
 # snakemake --cores 2 stability: the hard cases of config/stability.yaml and their table
-# (not part of the default reproduction; outputs under results/studies/stability/).
+# (not part of the default reproduction; outputs under results/<config>/studies/stability/).
 STABILITY_SPEC = "config/stability.yaml"
 STABILITY = read_spec(STABILITY_SPEC)
 STABILITY_REJECTED = [
@@ -11,7 +11,7 @@ STABILITY_REJECTED = [
 STABILITY_RUNS = expand_study(
     STABILITY, "stability", STABILITY_SPEC, skip=STABILITY_REJECTED
 )
-STABILITY_DIR = "results/studies/stability"
+STABILITY_DIR = result("studies/stability")
 STABILITY_CASES = [n for n in STABILITY_RUNS if n not in STABILITY_REJECTED]
 # cases whose preload is a fraction of the pull-off force of the case 'pull_off'
 STABILITY_FRACTIONS = {
@@ -33,7 +33,7 @@ rule stability_preload:
     output:
         f"{STABILITY_DIR}/{{name}}.preload.yaml",
     log:
-        f"logs/stability/{{name}}.preload.log",
+        logged(f"stability/{{name}}.preload.log"),
     wildcard_constraints:
         name=(
             "|".join(re.escape(n) for n in STABILITY_FRACTIONS)
@@ -64,9 +64,9 @@ rule stability_case:
     output:
         f"{STABILITY_DIR}/{{name}}.nc",
     log:
-        f"logs/stability/{{name}}.log",
+        logged(f"stability/{{name}}.log"),
     benchmark:
-        f"results/benchmarks/stability/{{name}}.tsv"
+        result(f"benchmarks/stability/{{name}}.tsv")
     wildcard_constraints:
         name="|".join(re.escape(n) for n in STABILITY_CASES),
     conda:
@@ -96,7 +96,7 @@ rule stability_table:
             category="Stability",
         ),
     log:
-        "logs/stability/table.log",
+        logged("stability/table.log"),
     conda:
         ENV
     threads: 1

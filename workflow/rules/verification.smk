@@ -4,20 +4,20 @@ VERIFICATION_SCENES = ["hertz", "jkr"]
 
 rule verification:
     input:
-        "results/verification/verification.pdf",
-        "results/verification/verification.png",
-        expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
+        result("verification/verification.pdf"),
+        result("verification/verification.png"),
+        expand(result("verification/{scene}.csv"), scene=VERIFICATION_SCENES),
 
 
 rule verify_scene:
     input:
         "config/scenes/{scene}.yaml",
     output:
-        "results/verification/{scene}.csv",
+        result("verification/{scene}.csv"),
     log:
-        "logs/verification/{scene}.log",
+        logged("verification/{scene}.log"),
     benchmark:
-        "results/benchmarks/verification/{scene}.tsv"
+        result("benchmarks/verification/{scene}.tsv")
     wildcard_constraints:
         scene="|".join(VERIFICATION_SCENES),
     conda:
@@ -32,18 +32,18 @@ rule verify_scene:
 
 rule verification_figure:
     input:
-        expand("results/verification/{scene}.csv", scene=VERIFICATION_SCENES),
+        expand(result("verification/{scene}.csv"), scene=VERIFICATION_SCENES),
     output:
-        pdf="results/verification/verification.pdf",
+        pdf=result("verification/verification.pdf"),
         png=report(
-            "results/verification/verification.png",
+            result("verification/verification.png"),
             caption="../report/verification.rst",
             category="Verification",
         ),
     log:
-        "logs/verification/figure.log",
+        logged("verification/figure.log"),
     benchmark:
-        "results/benchmarks/verification/figure.tsv"
+        result("benchmarks/verification/figure.tsv")
     conda:
         ENV
     threads: 1

@@ -12,6 +12,7 @@ spec, the run and the key.
 from __future__ import annotations
 
 import functools
+import hashlib
 from collections.abc import Iterable, Mapping
 from importlib import resources
 from pathlib import Path
@@ -19,13 +20,24 @@ from typing import Any
 
 import yaml
 
-from ..config import ConfigError, apply_settings, check_finite, check_schema, load_yaml, merge, schema, validate
+from ..config import (
+    ConfigError,
+    apply_settings,
+    check_finite,
+    check_schema,
+    load_config,
+    load_yaml,
+    merge,
+    scene_path,
+    schema,
+    validate,
+)
 from ..io.normal_state import normal_config
 from ..model import cost
 from ..params import Parameters
 from . import convergence
 
-__all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state"]
+__all__ = ["KINDS", "runs", "case_name", "check_runs", "shares_normal_state", "results_name"]
 
 KINDS = ("study", "stability", "convergence", "options", "experiment")
 
@@ -141,3 +153,18 @@ def check_runs(run_overrides: Mapping[str, Mapping], config_files: Iterable[str 
                 cost.check_factorization(Parameters.from_config(config))
         except ConfigError as err:
             raise ConfigError(f"run {run}: {err}") from None
+
+
+def results_name(config: Mapping[str, Any]) -> str:
+    """The name of a workflow configuration's results folder: its preset when ``config`` (validated) is the packaged
+    study (scene ``cap``) at that preset, else the preset and the first 8 hex digits of a SHA-256 of the
+    configuration's YAML text, so that two configurations never share a folder."""
+    preset = config.get("preset") or "custom"
+    try:
+        packaged = load_config([scene_path("cap")], settings={"preset": config.get("preset")})
+    except ConfigError:
+        packaged = None
+    if dict(config) == packaged:
+        return str(preset)
+    digest = hashlib.sha256(yaml.safe_dump(dict(config), sort_keys=True).encode()).hexdigest()[:8]
+    return f"{preset}-{digest}"
