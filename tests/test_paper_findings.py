@@ -1,4 +1,4 @@
-"""The paper's qualitative findings (DESIGN section 8) on the nine cap cases of a coarse run.
+"""The paper's qualitative findings (docs/theory.md section 8) on the nine cap cases of a coarse run.
 
 The cases run through the CLI into netCDF files, like the workflow does; the
 assertions read only those files.

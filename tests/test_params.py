@@ -1,4 +1,4 @@
-"""Derived CGCM constants (DESIGN section 1) and unit conversion."""
+"""Derived CGCM constants (docs/theory.md section 1) and unit conversion."""
 
 import math
 
