@@ -107,7 +107,7 @@ def test_small_study_table_matches_the_raw_case_files(workdir):
     (workdir / "config" / "convergence.yaml").write_text(SMALL)
     res = snakemake(workdir, "convergence")
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
-    out = workdir / "results" / "studies" / "convergence"
+    out = workdir / "results" / "paper" / "studies" / "convergence"  # the default configuration's folder
     rows = list(csv.DictReader((out / "table.csv").open()))
     assert [(r["sweep"], r["value"]) for r in rows] == [("mesh", "32"), ("mesh", "16"), ("gauss", "2"), ("gauss", "4")]
     raw = {}

@@ -94,8 +94,8 @@ def test_reduced_suite_through_snakemake(workdir):
     (tmp_path / "config" / "stability.yaml").write_text(REDUCED)
     res = snakemake(tmp_path, "stability")
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
-    rows = list(csv.DictReader((tmp_path / "results" / "studies" / "stability" / "table.csv").open()))
+    rows = list(csv.DictReader((tmp_path / "results" / "paper" / "studies" / "stability" / "table.csv").open()))
     assert [r["case"] for r in rows] == list(yaml.safe_load(REDUCED)["cases"])
     bad = [(r["case"], r["status"], r["check_value"]) for r in rows if r["passed"] != "True"]
     assert not bad
-    assert "| pull_off |" in (tmp_path / "results" / "studies" / "stability" / "table.md").read_text()
+    assert "| pull_off |" in (tmp_path / "results" / "paper" / "studies" / "stability" / "table.md").read_text()

@@ -32,7 +32,7 @@ class _Flag(IntEnum):
 
 
 class Phase(_Flag):
-    """Load phase of a converged step (DESIGN section 5); spread: the contact spreads with its edge held (stiff,
+    """Load phase of a converged step (docs/theory.md section 5); spread: the contact spreads with its edge held (stiff,
     short-range laws, after the approach; the edge-controlled verification sweep); dwell: the hold at the preload
     before the slide (``loading.dwell``)."""
 

@@ -12,7 +12,7 @@ thesis, analogous to J_l = J_cl). Sign
 conventions: Fn = integral of T_y (positive = tensile); the residual of the
 cap is R = f_int - f_contact.
 
-Friction (DESIGN section 3): each Gauss point keeps an anchor xi, a material
+Friction (docs/theory.md section 3): each Gauss point keeps an anchor xi, a material
 point of the substrate in the substrate's frame; the tangential gap is
 g_t = x - (xi + ubar), the trial traction per reference area -eps_t g_t,
 returned to the threshold J_s t_slide(g_n) (model DI, J_s = |dx/dX| the

@@ -1,7 +1,7 @@
 """Normal states: a cap approached and preloaded, saved once and slid by every friction model (issue 19); a dwell
 at the preload (``loading.dwell``) runs after the state, under the slide's normal control.
 
-Friction acts from the slide on (DESIGN section 5): the approach and the preload of a case depend on its
+Friction acts from the slide on (docs/theory.md section 5): the approach and the preload of a case depend on its
 configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that differ only in those keys share
 them. A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
 (:class:`capslide.loadpath.cap.PathState`), the step records up to there, the wall time spent, how the path ended

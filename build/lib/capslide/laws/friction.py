@@ -1,4 +1,4 @@
-"""Friction laws as objects chosen once from the parameters (DESIGN section 3; Mergel et al. 2019, section 4.2).
+"""Friction laws as objects chosen once from the parameters (docs/theory.md section 3; Mergel et al. 2019, section 4.2).
 
 A law gives the sliding threshold per REFERENCE area at a surface point from the normal gap g_n and the current
 surface stretch J_s = |dx/dX|, with both derivatives. Model DI has its threshold per current area, so per

@@ -1,4 +1,4 @@
-"""Plane-strain compressible neo-Hooke material (DESIGN section 4).
+"""Plane-strain compressible neo-Hooke material (docs/theory.md section 4).
 
 W = Lambda/4 (J^2 - 1 - 2 ln J) + mu/2 (I1 - 3 - 2 ln J), I1 = tr C with
 C_zz = 1 (plane strain). All functions are vectorized over leading axes

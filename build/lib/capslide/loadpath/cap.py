@@ -1,4 +1,4 @@
-"""The cap's load path (DESIGN section 5) as one generator of converged states: approach, preload, slide.
+"""The cap's load path (docs/theory.md section 5) as one generator of converged states: approach, preload, slide.
 
 The path is a sequence of legs, each an adaptive continuation (:mod:`capslide.loadpath.continuation`) in one
 scalar load parameter:

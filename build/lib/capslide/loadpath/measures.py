@@ -1,6 +1,6 @@
 """What is measured at a converged state: the step record, field snapshots, and the onset of full sliding.
 
-Internal units (stress E, length L0, force per width E L0). Sign conventions of DESIGN section 3: Fn on the cap
+Internal units (stress E, length L0, force per width E L0). Sign conventions of docs/theory.md section 3: Fn on the cap
 positive when tensile, Ft positive in the sliding direction, Tn positive when repulsive.
 """
 
@@ -140,7 +140,7 @@ def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float
 
 
 def fully_sliding(rec: StepRecord) -> bool:
-    """A slide step with contact and no sticking point (DESIGN section 5: the onset test)."""
+    """A slide step with contact and no sticking point (docs/theory.md section 5: the onset test)."""
     return rec.phase == Phase.SLIDE and rec.ubar != 0.0 and rec.area > 0.0 and not np.any(rec.slip_state == SlipState.STICK)
 
 

@@ -1,4 +1,4 @@
-"""Where the preload's path lands (DESIGN section 5): the targets of the preload leg, from the loading parameters
+"""Where the preload's path lands (docs/theory.md section 5): the targets of the preload leg, from the loading parameters
 alone (``loading.preload``, ``retract_from``, ``preload_via``) and the force at which the approach ended.
 
 Compressive and zero preloads are reached by loading from the approach's end; tensile ones by retraction from
