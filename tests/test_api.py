@@ -76,3 +76,29 @@ def test_config_of_a_collected_dataset_names_the_case():
         capslide.config_of(cube, model="EA", preload=0.0)
     with pytest.raises(ValueError, match="name one by model and preload"):
         capslide.config_of(cube)
+
+
+def test_the_slide_helper_indexes_the_forward_slide_by_ubar():
+    """slide(): the slide steps up to the largest ubar, ubar as the dimension; a slide back is left out."""
+    case = capslide.run(capslide.load_config(PAPER_CONFIG, **{**SHORT, "loading": {"ubar_max": 0.6, "slide_back": True}}))
+    s = capslide.slide(case)
+    assert s["Ft"].dims == ("ubar",) and np.all(np.diff(s.ubar.values) > 0) and float(s.ubar.max()) == 0.6
+    back = case.isel(step=(case.phase == 2).values)
+    assert back.sizes["step"] > s.sizes["ubar"]  # the slide back's steps exist, and are left out
+    assert float(s.Ft.sel(ubar=0.6)) == float(case.Ft.where(case.ubar == 0.6).max())
+    with pytest.raises(ValueError, match="one case"):
+        capslide.slide(case.assign_coords(phase=(("model", "step"), np.stack([case.phase.values] * 2))))
+
+
+def test_to_si_gives_units_that_pint_reads():
+    """to_si multiplies each normalized variable by the scale of its units; pint-xarray then quantifies them."""
+    import pint_xarray  # noqa: F401
+
+    case = capslide.run(capslide.load_config(PAPER_CONFIG, **SHORT))
+    assert case.Ft.attrs["units"] == "2 N/m" and case.area.attrs["units"] == "1e-06 m"
+    si = capslide.to_si(case[["Ft", "area", "newton_iterations"]])
+    np.testing.assert_array_equal(si.Ft.values, 2.0 * case.Ft.values)
+    assert si.Ft.attrs["units"] == "N/m" and si.newton_iterations.attrs["units"] == case.newton_iterations.attrs["units"]
+    q = si.pint.quantify()
+    assert float(q.Ft.pint.to("mN/m").max().pint.magnitude) == pytest.approx(2000.0 * float(case.Ft.max()))
+    assert str(q.area.pint.units) == "meter"

@@ -7,12 +7,13 @@ Layers, lowest first (a module imports only from its own layer or lower ones; te
 
 from .version import __version__
 
-__all__ = ["__version__", "load_config", "run", "open_case", "open_cases", "config_of"]
+API = ("load_config", "run", "open_case", "open_cases", "config_of", "collect", "slide", "to_si")
+__all__ = ["__version__", *API]
 
 
 def __getattr__(name: str):
     """The Python interface (:mod:`capslide.api`), imported on first use: the command line does not pay for it."""
-    if name in ("load_config", "run", "open_case", "open_cases", "config_of"):
+    if name in API:
         from . import api
 
         return getattr(api, name)

@@ -18,17 +18,20 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 import yaml
 
 from .config import flatten
 from .config import load_config as _load_config
 from .driver.case import run_case
+from .io.cube import collect as _collect
 from .io.reading import open_result
 from .io.results import case_dataset
 from .params import Parameters
+from .states import Phase
 
-__all__ = ["load_config", "run", "open_case", "open_cases", "config_of"]
+__all__ = ["load_config", "run", "open_case", "open_cases", "config_of", "collect", "slide", "to_si"]
 
 
 def load_config(*paths: str | Path, settings: Mapping[str, Any] | None = None, **overrides: Any) -> dict:
@@ -91,3 +94,49 @@ def open_cases(path: str | Path) -> xr.Dataset:
         labels = [[meanings[v] if v >= 0 else "" for v in row] for row in ds[name].values.tolist()]
         ds = ds.assign_coords({f"{name}_label": (ds[name].dims, labels)})
     return ds
+
+
+def collect(paths) -> xr.Dataset:
+    """Case files (``{model}_Fn{preload:+.3f}.nc``) stacked into the model x preload x step cube, in memory (what
+    ``capslide collect`` writes)."""
+    return _collect([str(p) for p in paths], history="capslide.collect (Python)")
+
+
+def slide(ds: xr.Dataset) -> xr.Dataset:
+    """The forward slide of one case, indexed by ``ubar``: its slide steps up to the largest ubar (a slide back is
+    left out), with ``ubar`` as the dimension, so that ``slide(case).sel(ubar=2.0, method="nearest")`` works. ``ds``:
+    a case dataset, or one case of a cube (``cube.sel(model="DI", preload=0.0)``)."""
+    if ds["phase"].ndim != 1:
+        raise ValueError("slide() takes one case: select it from a cube first, e.g. cube.sel(model='DI', preload=0.0)")
+    on = (ds["phase"] == int(Phase.SLIDE)).values
+    steps = ds.isel(step=on)
+    if steps.sizes["step"]:
+        last = int(np.argmax(steps["ubar"].values))
+        steps = steps.isel(step=slice(0, last + 1))
+    return steps.swap_dims(step="ubar")
+
+
+def _scale_and_unit(units: str) -> tuple[float, str] | None:
+    """(scale, SI unit) of a units attribute '<scale> <unit>' ('2 N/m', '1e-06 m'); None for '1' or no number."""
+    head, _, tail = str(units).partition(" ")
+    try:
+        scale = float(head)
+    except ValueError:
+        return None
+    return (scale, tail.strip()) if tail.strip() else None
+
+
+def to_si(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with every variable whose ``units`` is '<scale> <SI unit>' (capslide stores normalized values: Ft in
+    units of '2 N/m' for the paper's E and L0) multiplied by its scale and its ``units`` set to the SI unit, which
+    UDUNITS and pint both read: ``capslide.to_si(case).pint.quantify()`` (pint-xarray) gives pint quantities."""
+    out = ds.copy()
+    for name in [*ds.data_vars, *ds.coords]:
+        parsed = _scale_and_unit(ds[name].attrs.get("units", ""))
+        if parsed is None or ds[name].dtype.kind not in "fiu":
+            continue
+        scale, unit = parsed
+        converted = ds[name] * scale
+        converted.attrs = {**ds[name].attrs, "units": unit}
+        out[name] = converted
+    return out

@@ -1,4 +1,5 @@
-"""Progress of a running case: a one-line bar on a terminal (tqdm), one log line per step elsewhere.
+"""Progress of a running case: a one-line bar on a terminal (tqdm), a widget in a notebook (tqdm.auto), one log
+line per step elsewhere.
 
 The bar fits 80 columns and shows the phase, the load (ubar, or Fn in the preload), the percent of the planned path,
 the steps, the last step's Newton iterations, the elapsed time and an estimate of the time left. The planned path
@@ -13,7 +14,7 @@ import sys
 
 from ..driver.observers import Observer
 
-__all__ = ["ProgressDisplay", "path_fraction"]
+__all__ = ["ProgressDisplay", "path_fraction", "in_notebook"]
 
 WIDTH = 80
 _SPANS = {"approach": (0.0, 0.10), "spread": (0.10, 0.15), "preload": (0.15, 0.30), "dwell": (0.30, 0.30),
@@ -42,6 +43,15 @@ def path_fraction(step, loading, leg_start: float | None) -> float:
     return lo + (hi - lo) * min(max(inner, 0.0), 1.0)
 
 
+def in_notebook() -> bool:
+    """Whether this runs in a Jupyter kernel (an IPython shell that talks over ZMQ)."""
+    shell = sys.modules.get("IPython")
+    try:
+        return shell is not None and type(shell.get_ipython()).__name__ == "ZMQInteractiveShell"
+    except AttributeError:
+        return False
+
+
 class ProgressDisplay(Observer):
     """Shows a running case: a bar on a terminal, log lines elsewhere (``stream``: standard error by default).
 
@@ -52,7 +62,11 @@ class ProgressDisplay(Observer):
         self.loading, self.stream = loading, stream or sys.stderr
         self.steps, self._leg, self._leg_start, self._last_Fn = 0, None, None, None
         self.bar = None
-        if self.stream.isatty():
+        if in_notebook() and stream is None:  # a widget in Jupyter (tqdm.auto), not one text line per step
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=100, leave=True, mininterval=0.2)
+        elif self.stream.isatty():
             from tqdm import tqdm
 
             width = min(shutil.get_terminal_size((WIDTH, 24)).columns, WIDTH)
