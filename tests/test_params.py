@@ -98,3 +98,18 @@ def test_preset_fills_only_what_nothing_else_sets(tmp_path):
     bad.write_text("presets: {paper: {mesh.sise: 2}}\n")
     with pytest.raises(ConfigError, match="unknown key 'mesh.sise'"):
         load_config([PAPER, bad])
+
+
+def test_the_constants_si_units_are_derived_and_checked_by_pint(paper):
+    """A_H is an energy (J), not 'J m'; each SI value is the internal one times E^a L0^b, converted by pint."""
+    import pint
+
+    from capslide.params import SI_UNITS, _si_quantity
+
+    c = paper.derived_constants()
+    assert c["SI_units"]["A_H"] == "J" and c["SI_units"]["W_adh"] == "J/m^2"
+    assert c["SI"]["A_H"] == pytest.approx(c["internal"]["A_H"] * 2e6 * 1e-18, rel=1e-12)
+    assert c["SI"]["W_adh"] == pytest.approx(0.027, rel=1e-12)
+    assert set(SI_UNITS) == set(c["internal"])
+    with pytest.raises(pint.DimensionalityError):
+        _si_quantity(1.0, paper.units, 1, 3, "J m")  # the old label: an energy times a length

@@ -7,6 +7,7 @@ width W = 1). Everything downstream works in internal units.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -329,14 +330,34 @@ class Parameters:
             "g_cut_DI": (0, 1), "k_DI": (0, -1), "g_cut_EA": (0, 1), "eps_t": (1, -1),
             "Lambda": (1, 0), "mu": (1, 0),
         }
-        si_units = {(0, 1): "m", (1, 3): "J m", (1, 0): "Pa", (1, 1): "J/m^2", (0, -1): "1/m", (1, -1): "Pa/m"}
-        si = {k: v * u.E ** dims[k][0] * u.L0 ** dims[k][1] for k, v in internal.items()}
+        si = {k: _si_quantity(v, u, *dims[k], SI_UNITS[k]) for k, v in internal.items()}
         return {
             "internal": internal,
             "internal_units": {k: _internal_unit(*dims[k]) for k in internal},
-            "SI": si,
-            "SI_units": {k: si_units[dims[k]] for k in internal},
+            "SI": {k: float(q.magnitude) for k, q in si.items()},
+            "SI_units": {k: SI_UNITS[k] for k in si},  # each checked by pint's conversion above
         }
+
+
+# The SI unit each constant is reported in: a name for the reader (J/m^2 for a work of adhesion, where N/m has the
+# same dimension); pint converts E^a L0^b into it and raises if the dimension does not match.
+SI_UNITS = {"r0": "m", "A_H": "J", "T0": "Pa", "g_eq": "m", "g_max": "m", "T_max": "Pa", "W_adh": "J/m^2",
+            "g_reg": "m", "tau_DI": "Pa", "g_cut_DI": "m", "k_DI": "1/m", "g_cut_EA": "m", "eps_t": "Pa/m",
+            "Lambda": "Pa", "mu": "Pa"}
+
+
+@functools.cache
+def _registry():
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def _si_quantity(value: float, units: Units, e_pow: int, l_pow: int, unit: str):
+    """``value`` in units E^e_pow L0^l_pow as a pint quantity in ``unit`` (DimensionalityError when they differ)."""
+    ureg = _registry()
+    q = value * (units.E * ureg.pascal) ** e_pow * (units.L0 * ureg.meter) ** l_pow
+    return q.to(unit)
 
 
 def _internal_unit(e_pow: int, l_pow: int) -> str:
