@@ -96,6 +96,8 @@ def test_to_si_gives_units_that_pint_reads():
 
     case = capslide.run(capslide.load_config(PAPER_CONFIG, **SHORT))
     assert case.Ft.attrs["units"] == "2 N/m" and case.area.attrs["units"] == "1e-06 m"
+    assert len(case.attrs) < 40 and "friction_model" in case.attrs and "config_yaml" in case.attrs  # pruned, not lost
+    assert case.Ft.attrs["long_name"] == "friction force Ft" and "sliding direction" in case.Ft.attrs["description"]
     si = capslide.to_si(case[["Ft", "area", "newton_iterations"]])
     np.testing.assert_array_equal(si.Ft.values, 2.0 * case.Ft.values)
     assert si.Ft.attrs["units"] == "N/m" and si.newton_iterations.attrs["units"] == case.newton_iterations.attrs["units"]

@@ -19,7 +19,7 @@ import yaml
 from ..config import flatten
 from ..states import Status, flag_attributes
 from .reading import ResultFileError, open_result
-from .results import CASE_SCALARS, STEP_COORDINATES, STEP_VARIABLES, global_attrs, quantity
+from .results import CASE_SCALARS, STEP_COORDINATES, STEP_VARIABLES, global_attrs, key_parameters, quantity
 
 __all__ = ["collect", "model_name"]
 
@@ -77,19 +77,20 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
         case_file[at] = str(paths[i])
         config_yaml[at] = cases[i].attrs["config_yaml"]
     data.update({
-        "status": (("model", "preload"), status, flag_attributes(Status, "final status of the case (-1: no case)")),
+        "status": (("model", "preload"), status, flag_attributes(Status, "final status (-1: no case)")),
         "slide_end": (("model", "preload"), slide_end,
-                      {"long_name": "where the slide was set to end (loading.stop_at_onset; -1: no case)", "units": "1",
+                      {"long_name": "where the slide ends", "units": "1",
+                       "description": "where the slide was set to end (loading.stop_at_onset; -1: no case)",
                        "flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "ubar_max onset"}),
         "n_steps": (("model", "preload"), n_case_steps, quantity("number of converged steps of the case", "1")),
-        "case_file": (("model", "preload"), case_file, quantity("source case file", "1")),
-        "config_yaml": (("model", "preload"), config_yaml, quantity("configuration of the case (YAML text)", "1")),
+        "case_file": (("model", "preload"), case_file, quantity("source case file", None)),
+        "config_yaml": (("model", "preload"), config_yaml, quantity("configuration of the case (YAML)", None)),
     })
     coords = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in STEP_COORDINATES}
     coords.update({
-        "model": ("model", np.array(models, dtype=object), quantity("study model (study.models)", "1")),
-        "preload": ("preload", np.array(preloads), quantity("target normal force Fn* (positive = tensile)",
-                                                            cases[0]["Fn"].attrs["units"], "E L0 W")),
+        "model": ("model", np.array(models, dtype=object), quantity("study model", None, description="a model of study.models")),
+        "preload": ("preload", np.array(preloads), quantity("preload Fn*", cases[0]["Fn"].attrs["units"],
+                                                            "E L0 W", "target normal force, positive = tensile")),
         "step": ("step", np.arange(n_steps, dtype=np.int32), quantity("converged load step", "1")),
     })
     coords.update(_model_coordinates(paths, models, configs))
@@ -99,8 +100,7 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
             out[name].encoding["_FillValue"] = -1
     common = {k: v for k, v in configs[0].items() if all(c.get(k) == v for c in configs)}
     out.attrs.update(global_attrs(None, "capslide: all cases of a study", history))
-    out.attrs.update({k.replace(".", "_"): v if isinstance(v, (int, float, str)) else str(v) for k, v in common.items()
-                      if k != "loading.preload" and not isinstance(v, bool)})
+    out.attrs.update({k: v for k, v in key_parameters(common).items() if k != "loading_preload"})
     out.attrs["n_cases"] = len(cases)
     return out
 
@@ -122,5 +122,5 @@ def _model_coordinates(paths, models: list[str], configs: list[dict]) -> dict:
         if key == "friction.s_cut":  # meaningful for EA only
             values = [v if by_model[m][0]["friction.model"] == "EA" else np.nan for v, m in zip(values, models)]
         out[name] = ("model", np.array(values, dtype=object if isinstance(values[0], str) else float),
-                     quantity(f"{key} of the model", "1"))
+                     quantity(f"{key} of the model"[:40], None if isinstance(values[0], str) else "1"))
     return out
