@@ -48,7 +48,10 @@ def _running(pid: int) -> bool:
 
 
 def stale_temporaries(path: str | Path) -> list[Path]:
-    """The temporary files beside ``path`` left by writers of it on this host that no longer run."""
+    """The temporary files beside ``path`` left by writers of it on this host that no longer run (POSIX only: on
+    Windows ``os.kill`` would end the process it asks about, so nothing is removed there)."""
+    if os.name != "posix":
+        return []
     path = Path(path)
     prefix, host, out = f".{path.name}.", _host(), []
     for tmp in path.parent.glob(f".{path.name}.*.tmp"):

@@ -18,7 +18,6 @@ none.
 
 from __future__ import annotations
 
-import fcntl
 import hashlib
 import json
 import shutil
@@ -202,6 +201,16 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
                      meta.get("stage_h"), meta.get("onset_ceiling", float("nan")))
 
 
+def _flock(fh, exclusive: bool) -> None:
+    """Take (non-blocking; OSError when another process holds it) or release the advisory lock of ``fh``. POSIX
+    only (fcntl): elsewhere nothing is locked, and two runs of one output may both write its checkpoint."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX (Windows): capslide is tested on Linux only
+        return
+    fcntl.flock(fh, (fcntl.LOCK_EX | fcntl.LOCK_NB) if exclusive else fcntl.LOCK_UN)
+
+
 class CheckpointWriter:
     """Saves a running case into the checkpoint directory ``path``, new records and snapshots only at each save.
 
@@ -215,7 +224,7 @@ class CheckpointWriter:
         self.path.mkdir(parents=True, exist_ok=True)
         self._lock = open(self.path / "lock", "w")  # noqa: SIM115 (held until the writer is done)
         try:
-            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            _flock(self._lock, exclusive=True)
         except OSError:
             self._lock.close()
             raise CheckpointBusy(f"another run is writing the checkpoint '{self.path}'") from None
@@ -258,7 +267,7 @@ class CheckpointWriter:
 
     def close(self) -> None:
         if not self._lock.closed:
-            fcntl.flock(self._lock, fcntl.LOCK_UN)
+            _flock(self._lock, exclusive=False)
             self._lock.close()
 
 

@@ -20,8 +20,8 @@ import xarray as xr
 import yaml
 
 from ..config import flatten
-from ..fem.interface import SurfaceQuadrature
 from ..fem.mesh import Mesh
+from ..loadpath.measures import case_energies, surface_reference_x
 from ..states import Phase, SlipState, flag_attributes
 from ..version import software_version
 from .atomic import replacing
@@ -156,33 +156,17 @@ def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
                                    "ubar does not change)"))}
 
 
-def _dissipation(recs, weight: np.ndarray) -> np.ndarray:
-    """Frictional work dissipated up to each step (E L0^2 per width): the sum over steps and surface points of
-    -(T_t before + T_t after) / 2 x the anchors' move x dA. With the trapezoidal work of the loads this closes the
-    energy balance of the return map's elastic-slip split exactly at every step (a spring-slider: T dx = T dx_e +
-    T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty energy T^2 / (2 eps_t))."""
-    if not recs:
-        return np.zeros(0)
-    Tt = np.stack([r.traction_t for r in recs])
-    slip = np.stack([r.slip for r in recs])
-    before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
-    return np.cumsum(-0.5 * ((before + Tt) * slip) @ weight)
-
-
-def _energy_balance(recs, dissipation: np.ndarray, energy: str) -> dict:
-    """The work of the loads on the substrate, int Fn dh + Ft dubar (trapezoidal rule over the steps), and the
-    balance's residual: work - (change of elastic, adhesive and penalty energy) - dissipation."""
-    Fn, Ft, h, ubar = (np.array([getattr(r, k) for r in recs], dtype=float) for k in ("Fn", "Ft", "h", "ubar"))
-    dW = 0.5 * (Fn[1:] + Fn[:-1]) * np.diff(h) + 0.5 * (Ft[1:] + Ft[:-1]) * np.diff(ubar)
-    work = np.concatenate([np.zeros(min(len(recs), 1)), np.cumsum(dW)])
-    stored = np.array([r.elastic_energy + r.adhesion_energy + r.penalty_energy for r in recs], dtype=float)
-    residual = work - (stored - stored[:1]) - dissipation
-    return {"external_work": ("step", work, quantity("work of the loads", energy, "E L0^2 W",
-                                                     "work of the loads on the substrate up to the step, per unit "
-                                                     "width: int Fn dh + Ft dubar (trapezoidal rule)")),
-            "energy_residual": ("step", residual, quantity("energy balance residual", energy, "E L0^2 W",
-                                                           "external_work - (elastic + adhesion + penalty energy, "
-                                                           "change from step 0) - dissipation"))}
+def _energy_balance(energies: dict[str, np.ndarray], energy: str) -> dict:
+    """The work of the loads and the balance's residual (:func:`capslide.loadpath.measures.case_energies`) as
+    step variables."""
+    return {"external_work": ("step", energies["external_work"],
+                              quantity("work of the loads", energy, "E L0^2 W",
+                                       "work of the loads on the substrate up to the step, per unit width: "
+                                       "int Fn dh + Ft dubar (trapezoidal rule)")),
+            "energy_residual": ("step", energies["energy_residual"],
+                                quantity("energy balance residual", energy, "E L0^2 W",
+                                         "external_work - (elastic + adhesion + penalty energy, change from step 0) "
+                                         "- dissipation"))}
 
 
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
@@ -221,12 +205,11 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
                             quantity("Ft / A", u["stress"], "E",
                                      "mean shear stress in contact (NaN without contact)"))
-    quad = SurfaceQuadrature.on(mesh, p.mesh.surface_gauss_points)  # the surface points, ordered by reference x
-    dissipated = _dissipation(recs, quad.weight.ravel())
-    data["dissipation"] = ("step", dissipated, quantity("dissipated work", u["energy"], "E L0^2 W",
+    energies = case_energies(recs, mesh, p.mesh.surface_gauss_points)
+    data["dissipation"] = ("step", energies["dissipation"], quantity("dissipated work", u["energy"], "E L0^2 W",
                                                         "frictional work dissipated up to the step, per unit width: "
                                                         "sum over steps of -(Tt before + Tt after) / 2 x slip x dA"))
-    data.update(_energy_balance(recs, dissipated, u["energy"]))
+    data.update(_energy_balance(energies, u["energy"]))
     data.update({
         "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
         "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),
@@ -287,7 +270,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u["length"], "L0")),
         "h": ("step", step("h"), quantity("substrate height h", u["length"], "L0",
                                       "height of the substrate's lower face above the base")),
-        "X_reference": ("surface_point", quad.X[..., 0].ravel() if recs else np.zeros(0),
+        "X_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
                         quantity("reference x of the surface Gauss point", u["length"], "L0")),
         "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
                           quantity("ubar of the field snapshot", u["length"], "L0")),

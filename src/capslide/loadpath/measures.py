@@ -11,11 +11,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..fem.interface import SurfaceQuadrature
 from ..laws import contact
 from ..model.system import CapModel, History
 from ..states import Phase, SlipState
 
-__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot",
+__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot", "dissipation",
+           "external_work_and_residual", "surface_reference_x", "case_energies",
            "interval_measures", "fully_sliding", "sliding_onset", "peeling_off"]
 
 
@@ -176,3 +178,39 @@ def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
     dA, dh, du = np.diff(area), np.diff(h), np.diff(ubar)
     trend = np.all(dA < -ROUND_OFF * area[1:]) and np.all(dh > ROUND_OFF * np.maximum(1.0, np.abs(h[1:])))
     return bool(trend and abs(dA[-1]) > abs(du[-1]))
+
+
+def dissipation(recs, weight: np.ndarray) -> np.ndarray:
+    """Frictional work dissipated up to each step (E L0^2 per width): the sum over steps and surface points of
+    -(T_t before + T_t after) / 2 x the anchors' move x dA. With the trapezoidal work of the loads this closes the
+    energy balance of the return map's elastic-slip split exactly at every step (a spring-slider: T dx = T dx_e +
+    T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty energy T^2 / (2 eps_t))."""
+    if not recs:
+        return np.zeros(0)
+    Tt = np.stack([r.traction_t for r in recs])
+    slip = np.stack([r.slip for r in recs])
+    before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
+    return np.cumsum(-0.5 * ((before + Tt) * slip) @ weight)
+
+
+def external_work_and_residual(recs, dissipated: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The work of the loads on the substrate, int Fn dh + Ft dubar (trapezoidal rule over the steps), and the
+    balance's residual: work - (change of elastic, adhesive and penalty energy) - dissipation (E L0^2 per width)."""
+    Fn, Ft, h, ubar = (np.array([getattr(r, k) for r in recs], dtype=float) for k in ("Fn", "Ft", "h", "ubar"))
+    dW = 0.5 * (Fn[1:] + Fn[:-1]) * np.diff(h) + 0.5 * (Ft[1:] + Ft[:-1]) * np.diff(ubar)
+    work = np.concatenate([np.zeros(min(len(recs), 1)), np.cumsum(dW)])
+    stored = np.array([r.elastic_energy + r.adhesion_energy + r.penalty_energy for r in recs], dtype=float)
+    return work, work - (stored - stored[:1]) - dissipated
+
+
+def surface_reference_x(mesh, n_gauss: int) -> np.ndarray:
+    """Reference x of the surface Gauss points, in the order of the step records' profiles (by reference x)."""
+    return SurfaceQuadrature.on(mesh, n_gauss).X[..., 0].ravel()
+
+
+def case_energies(recs, mesh, n_gauss: int) -> dict[str, np.ndarray]:
+    """The energy bookkeeping of a case's steps: ``dissipation``, ``external_work`` and ``energy_residual`` (E L0^2
+    per width), with the weights of the surface quadrature the records were measured on."""
+    dissipated = dissipation(recs, SurfaceQuadrature.on(mesh, n_gauss).weight.ravel())
+    work, residual = external_work_and_residual(recs, dissipated)
+    return {"dissipation": dissipated, "external_work": work, "energy_residual": residual}

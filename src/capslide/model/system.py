@@ -24,6 +24,7 @@ from ..fem.mixed import MixedBulkForm
 from ..fem.viscous import Networks, ViscousBranches
 from ..laws.friction import ReturnMapSettings, Sticking, friction_law
 from ..params import Parameters
+from ..solvers.interfaces import KeepsFactors, LinearSolver, SolvesBordered
 from .constraints import FixedForce
 
 __all__ = ["History", "BorderedSolve", "CapModel"]
@@ -48,17 +49,16 @@ class BorderedSolve:
     the solver runs one Krylov solve on the bordered system, and ``self(r, eta)`` stops it at the relative residual
     eta (never below the solver's own tolerance); other solvers ignore eta."""
 
-    def __init__(self, solver, K, c, d, e):
+    def __init__(self, solver: LinearSolver, K, c, d, e):
         self.solver, self.K, self.c, self.d, self.e = solver, K, c, d, e
         self.iterations = 0
-        self.inexact = hasattr(solver, "solve_bordered")
+        self.inexact = isinstance(solver, SolvesBordered)
 
     def next_increment(self, r: np.ndarray) -> float | None:
         """||J0^{-1} r||_inf with the solver's stored factors J0 (an earlier Jacobian, or this one with the direct
         solver): the size of the increment a Newton iteration would take from the residual r, estimated without a
         new tangent or Krylov run; None when the solver keeps no factors."""
-        approximate = getattr(self.solver, "approximate_bordered", None)
-        dx = None if approximate is None else approximate(self.c, self.d, self.e, r)
+        dx = self.solver.approximate_bordered(self.c, self.d, self.e, r) if isinstance(self.solver, KeepsFactors) else None
         return None if dx is None else float(np.max(np.abs(dx)))
 
     def __call__(self, r: np.ndarray, eta: float | None = None) -> np.ndarray:
@@ -80,7 +80,7 @@ class BorderedSolve:
 class CapModel:
     """Residual and linearization of the cap against the rigid flat; ``solver`` is the linear solver to use."""
 
-    def __init__(self, mesh: Mesh, params: Parameters, solver):
+    def __init__(self, mesh: Mesh, params: Parameters, solver: LinearSolver):
         self.mesh, self.params, self.solver = mesh, params, solver
         m = params.material
         mixed = params.mesh.formulation == "mixed"
