@@ -2,6 +2,7 @@
 they work from any folder; config/ in the repository links to them (issue 41, item 1)."""
 
 import os
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -56,7 +57,11 @@ def test_an_unknown_scene_name_in_python_names_the_scenes():
 
 def test_the_wheel_ships_the_scenes(tmp_path):
     """The wheel built from the checkout holds every scene and preset; the paper's study loads from it alone."""
-    res = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(tmp_path)],
+    source = tmp_path / "source"  # a copy: an in-tree build would leave build/ in the checkout
+    shutil.copytree(ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy(ROOT / name, source / name)
+    res = subprocess.run([sys.executable, "-m", "pip", "wheel", str(source), "--no-deps", "-q", "-w", str(tmp_path)],
                          capture_output=True, text=True)
     assert res.returncode == 0, res.stderr[-2000:]
     (wheel,) = tmp_path.glob("capslide-*.whl")

@@ -1,1 +1,0 @@
-"""Running a case: the load path observed by recording, snapshots, stops, progress and checkpoints."""

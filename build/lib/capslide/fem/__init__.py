@@ -1,1 +1,0 @@
-"""Discretization: reference elements, meshes, bulk assembly, the contact surface integral."""

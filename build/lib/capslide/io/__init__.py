@@ -1,1 +1,0 @@
-"""Files: result datasets (netCDF), checkpoints, ParaView export, atomic writes."""
