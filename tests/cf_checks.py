@@ -9,8 +9,8 @@ SI = {"divided by L0": "m", "divided by E": "Pa", "divided by E L0 W": "N/m", "d
 
 
 def check_cf(ds, name=""):
-    """Every variable has a short long_name and, unless it is text, units; every unit parses and converts to its physical unit; attribute names
-    are CF-valid; flag variables list a meaning per value."""
+    """Every variable has a short long_name and, unless it is text, units; every unit parses and converts to its
+    physical unit; attribute names are CF-valid; flag variables list a meaning per value."""
     assert ds.attrs["Conventions"].startswith("CF-") and "history" in ds.attrs, name
     for key in ds.attrs:
         assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", key), (name, key)

@@ -190,3 +190,15 @@ def test_a_closed_pipe_ends_quietly():
     res = subprocess.run(f"{sys.executable} -m capslide constants {PAPER_CONFIG} | head -c 0; echo ${{PIPESTATUS[0]}} >&2",
                          shell=True, executable="/bin/bash", capture_output=True, text=True)
     assert res.stderr.strip() == "141", res.stderr
+
+
+def test_a_run_checks_its_cost_once(tmp_path, monkeypatch):
+    """capslide run estimates the mesh's cost once (its preflight), not again in the case driver."""
+    from capslide.model import cost
+
+    calls = []
+    real = cost.estimate
+    monkeypatch.setattr(cost, "estimate", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
+    args = ["run", str(PAPER_CONFIG), "--set", "preset=fast", "--set", "loading.ubar_max=0", "-q",
+            "-o", str(tmp_path / "c.nc")]
+    assert main(args) == 0 and len(calls) == 1

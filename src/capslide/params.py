@@ -29,6 +29,9 @@ __all__ = [
     "MeshSpec",
     "Loading",
     "SolverSpec",
+    "Output",
+    "Limits",
+    "Verification",
     "Parameters",
 ]
 
@@ -194,6 +197,32 @@ class Loading:
 
 
 @dataclass(frozen=True)
+class Output:
+    """What a case file holds and how often a case saves a checkpoint (``output``)."""
+
+    snapshot_ubar: tuple[float, ...]  # L0: field snapshots at these slide positions
+    checkpoint_every: int  # converged steps between checkpoints (0: none)
+    surface_profiles: bool  # per-step surface profiles in the case file
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The cost guards (``limits``): refused before computing, or ended as diverged."""
+
+    max_dofs: float
+    max_memory_gb: float
+    refuse_locking: bool
+    max_steps: int
+
+
+@dataclass(frozen=True)
+class Verification:
+    """The load sweep of the Hertz and JKR scenes (``verification``)."""
+
+    loads: tuple[float, ...]  # P = -Fn (E L0 W), compressive positive
+
+
+@dataclass(frozen=True)
 class SolverSpec:
     linear: str  # auto, amg, lu_krylov or direct (see capslide.solvers.linsolve.choose_linear_solver)
     amg_above_dofs: int
@@ -231,6 +260,9 @@ class Parameters:
     mesh: MeshSpec
     loading: Loading
     solver: SolverSpec
+    output: Output
+    limits: Limits
+    verification: Verification
     config: Mapping[str, Any] = field(repr=False, compare=False)
 
     @classmethod
@@ -312,6 +344,14 @@ class Parameters:
                 newton_max_iterations=int(sol["newton_max_iterations"]),
                 krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
             ),
+            output=Output(snapshot_ubar=tuple(config["output"]["snapshot_ubar"]),
+                          checkpoint_every=int(config["output"]["checkpoint_every"]),
+                          surface_profiles=bool(config["output"]["surface_profiles"])),
+            limits=Limits(max_dofs=float(config["limits"]["max_dofs"]),
+                          max_memory_gb=float(config["limits"]["max_memory_gb"]),
+                          refuse_locking=bool(config["limits"]["refuse_locking"]),
+                          max_steps=int(config["limits"]["max_steps"])),
+            verification=Verification(loads=tuple(config["verification"]["loads"])),
             config=config,
         )
 

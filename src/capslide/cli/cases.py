@@ -66,7 +66,7 @@ def cmd_mesh(args) -> int:
     return 0
 
 
-def _run_checkpointed(params, output: Path, args, start=None, stop_before: str = "done"):
+def _run_checkpointed(params, output: Path, args, start=None, stop_before: str = "done", checked=None):
     """Run a case (from ``start``, a saved path, when there is no usable checkpoint) with checkpoints beside
     ``output`` (``--resume`` continues one), progress and the interrupt test hook; the case result. A checkpoint
     that cannot be used starts the case afresh (one line); a ``start`` that does not fit the model is an
@@ -84,7 +84,7 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
     from ..io.state_check import SavedStateMismatch
 
     output.parent.mkdir(parents=True, exist_ok=True)
-    every = int(params.config["output"]["checkpoint_every"])
+    every = params.output.checkpoint_every
     path = checkpoint_path(output)
     text = config_text(params.config)
     saved, writer = start, None
@@ -107,7 +107,7 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
         interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)
         observers.append(AfterSteps(int(os.environ[INTERRUPT_AFTER_STEP]), interrupt))
     run = lambda resume: run_case(params, observers=observers, checkpoint=writer, resume=resume,  # noqa: E731
-                                  stop_before=stop_before)
+                                  stop_before=stop_before, checked=checked)
     try:
         try:
             result = run(saved)
@@ -164,9 +164,9 @@ def cmd_run(args) -> int:
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
-    cost.check(params, cap_mesh_spec(params))  # before anything is written
+    checked = cost.check(params, cap_mesh_spec(params))  # the preflight, once: before anything is written
     start = _normal_state(args.from_state, params.config) if args.from_state else None
-    result, writer = _run_checkpointed(params, output, args, start)
+    result, writer = _run_checkpointed(params, output, args, start, checked=checked)
     write_netcdf(case_dataset(result, history=command_line()), output)
     if writer is not None:
         writer.remove()
@@ -206,9 +206,9 @@ def cmd_preload(args) -> int:
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"npz"})
-    cost.check(params, cap_mesh_spec(params))
+    checked = cost.check(params, cap_mesh_spec(params))
     start = _continued_start(params, args.from_state) if args.from_state else None
-    result, writer = _run_checkpointed(params, output, args, start, stop_before="dwell")
+    result, writer = _run_checkpointed(params, output, args, start, stop_before="dwell", checked=checked)
     ended = None if result.status == Status.COMPLETED else (result.status, result.reason)
     write_normal_state(output, SavedCase(result.state, result.records, [], result.wall_time, ended), params.config)
     if writer is not None:

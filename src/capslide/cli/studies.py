@@ -40,7 +40,7 @@ def cmd_verify(args) -> int:
     if args.scene in ("hertz", "jkr") and args.scene != scene:
         raise InputError(f"--scene = {args.scene!r} does not match the config: contact.repulsion_only = "
                          f"{params.contact.repulsion_only} makes it a {scene} scene")
-    loads = params.config["verification"]["loads"]
+    loads = list(params.verification.loads)
     if not loads:
         raise InputError("verification.loads is empty: give the loads of the sweep in the scene file")
     if scene == "hertz" and min(loads) <= 0.0:

@@ -46,13 +46,13 @@ class CaseResult:
 def snapshot_positions(params: Parameters) -> tuple[float, ...]:
     """The ``output.snapshot_ubar`` values the slide reaches (between 0 and ubar_max)."""
     L = params.loading
-    return tuple(b for b in params.config["output"]["snapshot_ubar"]
+    return tuple(b for b in params.output.snapshot_ubar
                  if (0.0 <= b <= L.ubar_max) or (L.ubar_max <= b <= 0.0))
 
 
 def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[Observer] = (),
              checkpoint: CheckpointWriter | None = None, checkpoint_every: int | None = None,
-             resume: SavedCase | None = None, stop_before: str = "done") -> CaseResult:
+             resume: SavedCase | None = None, stop_before: str = "done", checked: cost.Cost | None = None) -> CaseResult:
     """Run one case; failures end with a status (detached, diverged) and the last converged state.
 
     ``observers`` see every converged step (progress, for example). With a ``checkpoint`` writer the case is saved
@@ -61,10 +61,11 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     before the leg ``stop_before`` (``"dwell"``: a normal state). A configuration beyond ``limits`` is refused
     before anything is computed (ConfigError, see :mod:`capslide.model.cost`), as is a ``resume`` whose arrays do not
     fit the model (SavedStateMismatch naming the file and field), and a case that takes more than
-    ``limits.max_steps`` steps ends diverged.
+    ``limits.max_steps`` steps ends diverged. ``checked``: the estimate of a caller that ran the check already
+    (the command line checks before it writes anything), so that it runs once.
     """
     if mesh is None:
-        estimate = cost.check(params, cap_mesh_spec(params))
+        estimate = checked if checked is not None else cost.check(params, cap_mesh_spec(params))
         for obs in observers:
             obs.notice(Notice(f"building the mesh: {estimate.cells:,} {params.mesh.element} cells, {estimate.dofs:,} DOF"))
     else:
@@ -79,11 +80,11 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     snapshot_taker = Snapshots(model, wanted, snapshots)
     watching: list[Observer] = [Recorder(records), snapshot_taker, *observers,
                                 PeelOff(records, params.loading.preload), Snap(records, params.friction.weakening),
-                                StepBudget(records, params.config["limits"]["max_steps"])]
+                                StepBudget(records, params.limits.max_steps)]
     if params.loading.stop_at_onset:
         watching.append(OnsetStop())
     if checkpoint is not None:
-        every = params.config["output"]["checkpoint_every"] if checkpoint_every is None else checkpoint_every
+        every = params.output.checkpoint_every if checkpoint_every is None else checkpoint_every
         watching.append(Checkpointing(checkpoint, every, model, records, snapshots, clock))
     state = after_normal_state(model, resume.state) if resume is not None else initial_state(model)
     if resume is not None and resume.ended is not None:

@@ -225,7 +225,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
                          quantity("base force y", u["force"], "E L0 W",
                                   "y force of the clamped base on the cap; force balance: Fn + base_force_y = 0")),
     })
-    if p.config["output"]["surface_profiles"]:
+    if p.output.surface_profiles:
         data.update({
             "x_current": (("step", "surface_point"), prof("x_surface"), quantity("current x of the surface point",
                                                                                  u["length"], "L0")),

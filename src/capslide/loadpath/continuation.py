@@ -161,78 +161,129 @@ def _after(first: NewtonResult, then: NewtonResult) -> NewtonResult:
     return then
 
 
+@dataclass(frozen=True)
+class _Aim:
+    """Where the next step goes: its length, its target value, whether it was shortened (to land on the end, a
+    breakpoint or the step limit: ``loop.step`` is then kept) and whether it is a steady long step."""
+
+    step: float
+    target: float
+    shortened: bool
+    long_step: bool
+
+
+def _aim(loop: Loop, leg: Leg, direction: float, tol: float) -> _Aim:
+    """The next step from ``loop`` towards the leg's end, within its step limit and the next breakpoint."""
+    step = min(loop.step, abs(leg.end - loop.value))
+    if leg.step_limit is not None:
+        step = max(min(step, leg.step_limit(loop.value)), leg.control.minimum)
+    if loop.pending:
+        step = min(step, abs(loop.pending[0] - loop.value))
+    target = loop.value + direction * step
+    if loop.pending and abs(target - loop.pending[0]) <= tol:
+        target = loop.pending[0]
+    return _Aim(step, target, step < loop.step, math.isinf(loop.step))
+
+
+def _predicted(model: CapModel, loop: Loop, leg: Leg, target: float) -> np.ndarray:
+    """The Newton start of a step to ``target``: the secant through the last two converged states (when the leg
+    asks for it and the prediction is admissible), else the last state."""
+    if leg.secant and loop.x_prev is not None and loop.value_prev != loop.value:
+        x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
+        if model.admissible(x0):
+            return x0
+    return loop.x
+
+
+def _solved_step(model: CapModel, loop: Loop, leg: Leg, history: History, target: float, opts: NewtonOptions,
+                 dt: float, constraint) -> tuple[NewtonResult, History]:
+    """Newton on the step to ``target``; a leg's first step with ``stick_first`` starts from its stick solution
+    (whose iterations count in the step's)."""
+    x0 = _predicted(model, loop, leg, target)
+    stick = None
+    if leg.stick_first and loop.x_prev is None:
+        stick, _ = solve_constrained(model.sticking(), constraint, history, x0, opts, dt)
+        x0 = stick.x if stick.converged else x0
+    res, solved = solve_constrained(model, constraint, history, x0, opts, dt)
+    return (res if stick is None else _after(stick, res)), solved
+
+
+def _judged(model: CapModel, loop: Loop, leg: Leg, res: NewtonResult, solved: History, aim: _Aim, constraint,
+            wall: float, dt: float) -> tuple[StepRecord | None, str, bool]:
+    """The record of a converged step, or None with the reason it counts as failed (no convergence, the leg's
+    rejection, a long step that ended unsteady); and whether the steady rule still holds after it."""
+    if not res.converged:
+        return None, res.reason, False
+    rec = measure(model, res.x, solved, leg.phase, constraint.ubar, res.iterations, res.linear_iterations, wall, dt)
+    rec.steady_step = aim.long_step
+    still_steady = leg.steady is not None and leg.steady(rec, loop.x)
+    rejected = leg.rejects(rec) if leg.rejects is not None else None
+    if rejected is None and aim.long_step and not still_steady:
+        rejected = "not steady over the long step"
+    return (None, rejected, still_steady) if rejected is not None else (rec, res.reason, still_steady)
+
+
+def _cut_back(loop: Loop, leg: Leg, step: float, reason: str) -> LegEnd | Notice:
+    """Halve the step after a failed one; the leg's end (diverged) past the cut-back budget or below the minimum
+    step, else a notice."""
+    control, name = leg.control, leg.name
+    loop.cutbacks += 1
+    loop.step = min(0.5 * step, control.maximum)
+    if loop.cutbacks > control.max_cutbacks:
+        return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
+                      f"{loop.value:.6g} ({reason})")
+    if loop.step < control.minimum:
+        return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
+                      f"({reason})")
+    return Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
+
+
+def _advanced(loop: Loop, aim: _Aim, x: np.ndarray) -> float | None:
+    """Move ``loop`` to the converged state ``x`` at the aim's target; the breakpoint it landed on, if any."""
+    loop.x_prev, loop.value_prev = loop.x, loop.value
+    loop.x, loop.value = x, aim.target
+    loop.smallest = min(loop.smallest, aim.step)
+    if loop.pending and aim.target == loop.pending[0]:
+        return loop.pending.pop(0)
+    return None
+
+
+def _next_step_size(loop: Loop, control: StepControl, aim: _Aim, res: NewtonResult, still_steady: bool) -> None:
+    """After a converged step that does not end the leg: a steady slide goes on in long steps; an easy solve (at
+    most ``easy_iterations`` per Newton run: Uzawa's runs each count) grows the step unless it was shortened."""
+    if still_steady:
+        loop.step = math.inf
+    elif not aim.shortened and res.iterations <= control.easy_iterations * res.runs:
+        loop.step = min(loop.step * control.growth, control.maximum)
+
+
 def continuation(model: CapModel, loop: Loop, history: History,
                  leg: Leg) -> Generator[Converged | Notice, None, LegEnd]:
     """Continue ``loop`` to the end of ``leg`` from the friction ``history``; the steps as they converge, and a
     :class:`Notice` at every cut-back."""
-    end, control, name, ends, step_limit = leg.end, leg.control, leg.name, leg.ends, leg.step_limit
-    direction = 1.0 if end >= loop.value else -1.0
-    tol = _tolerance(end)
+    direction = 1.0 if leg.end >= loop.value else -1.0
+    tol = _tolerance(leg.end)
     opts = newton_options(model)
-    while direction * (end - loop.value) > tol:
-        step = min(loop.step, abs(end - loop.value))
-        if step_limit is not None:
-            step = max(min(step, step_limit(loop.value)), control.minimum)
-        if loop.pending:
-            step = min(step, abs(loop.pending[0] - loop.value))
-        shortened = step < loop.step  # to land on the end, a breakpoint or the step limit: loop.step is kept
-        long_step = math.isinf(loop.step)  # the rule held after the last step: this one goes to the next stop
-        target = loop.value + direction * step
-        if loop.pending and abs(target - loop.pending[0]) <= tol:
-            target = loop.pending[0]
+    while direction * (leg.end - loop.value) > tol:
+        aim = _aim(loop, leg, direction, tol)
         t0 = time.perf_counter()
-        x0 = loop.x
-        if leg.secant and loop.x_prev is not None and loop.value_prev != loop.value:  # secant predictor
-            x0 = loop.x + (loop.x - loop.x_prev) * ((target - loop.value) / (loop.value - loop.value_prev))
-            if not model.admissible(x0):
-                x0 = loop.x
-        c = leg.constraint_of(target)
-        dt = leg.seconds_per_unit * abs(target - loop.value)
-        stick = None
-        if leg.stick_first and loop.x_prev is None:  # the leg's first step starts from its stick solution
-            stick, _ = solve_constrained(model.sticking(), c, history, x0, opts, dt)
-            x0 = stick.x if stick.converged else x0
-        res, solved = solve_constrained(model, c, history, x0, opts, dt)
-        if stick is not None:
-            res = _after(stick, res)
-        reason = res.reason
-        rec = None
-        if res.converged:
-            rec = measure(model, res.x, solved, leg.phase, c.ubar, res.iterations, res.linear_iterations,
-                          time.perf_counter() - t0, dt)
-            rec.steady_step = long_step
-            still_steady = leg.steady is not None and leg.steady(rec, loop.x)
-            rejected = leg.rejects(rec) if leg.rejects is not None else None
-            if rejected is None and long_step and not still_steady:
-                rejected = "not steady over the long step"
-            if rejected is not None:
-                rec, reason = None, rejected
+        constraint = leg.constraint_of(aim.target)
+        dt = leg.seconds_per_unit * abs(aim.target - loop.value)
+        res, solved = _solved_step(model, loop, leg, history, aim.target, opts, dt, constraint)
+        rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint, time.perf_counter() - t0, dt)
         if rec is None:
-            loop.cutbacks += 1
-            loop.step = min(0.5 * step, control.maximum)
-            if loop.cutbacks > control.max_cutbacks:
-                return LegEnd(Status.DIVERGED, f"{name}: more than {control.max_cutbacks} cut-backs, stopped at "
-                              f"{loop.value:.6g} ({reason})")
-            if loop.step < control.minimum:
-                return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
-                              f"({reason})")
-            yield Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
+            outcome = _cut_back(loop, leg, aim.step, reason)
+            if isinstance(outcome, LegEnd):
+                return outcome
+            yield outcome
             continue
-        loop.x_prev, loop.value_prev = loop.x, loop.value
-        loop.x, loop.value = res.x, target
-        loop.smallest = min(loop.smallest, step)
-        history = model.commit(loop.x, c.ubar, solved, dt)  # the history only at converged steps
-        landed = None
-        if loop.pending and target == loop.pending[0]:
-            landed = loop.pending.pop(0)
-        status = ends(rec) if ends is not None else None
-        leg_end = LegEnd(status, f"{name}: {status.label} at {loop.value:.6g}") if status is not None else None
+        landed = _advanced(loop, aim, res.x)
+        history = model.commit(loop.x, constraint.ubar, solved, dt)  # the history only at converged steps
+        status = leg.ends(rec) if leg.ends is not None else None
+        leg_end = LegEnd(status, f"{leg.name}: {status.label} at {loop.value:.6g}") if status is not None else None
         if leg_end is None:
-            if still_steady:
-                loop.step = math.inf
-            elif not shortened and res.iterations <= control.easy_iterations * res.runs:  # per Newton run (Uzawa's)
-                loop.step = min(loop.step * control.growth, control.maximum)
-            if not direction * (end - loop.value) > tol:
+            _next_step_size(loop, leg.control, aim, res, still_steady)
+            if not direction * (leg.end - loop.value) > tol:
                 leg_end = LegEnd(Status.COMPLETED)
         yield Converged(rec, loop.x, history, loop.value, loop, landed, leg_end)
         if leg_end is not None:

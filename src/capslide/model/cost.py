@@ -79,17 +79,17 @@ def check(p: Parameters, spec: CapMeshSpec, steps: bool = True) -> Cost:
     """The estimate, or ConfigError (one line: the estimate and the key to raise) when it exceeds ``limits``.
 
     ``steps=False`` checks the mesh alone (``capslide mesh``)."""
-    limits = p.config["limits"]
+    limits = p.limits
     try:
         cost = estimate(p, spec)
     except BandTooWide:
         raise _band_error(p, spec) from None
     mesh = f"mesh.size = {p.mesh.size!r} ({p.mesh.element}) gives about {cost.cells:,} cells, {cost.dofs:,} DOF"
-    if cost.dofs > limits["max_dofs"]:
-        raise ConfigError(f"{mesh}: above limits.max_dofs = {limits['max_dofs']:g} (raise it to compute this mesh)")
-    if cost.memory_gb > limits["max_memory_gb"]:
+    if cost.dofs > limits.max_dofs:
+        raise ConfigError(f"{mesh}: above limits.max_dofs = {limits.max_dofs:g} (raise it to compute this mesh)")
+    if cost.memory_gb > limits.max_memory_gb:
         raise ConfigError(f"{mesh} and needs about {cost.memory_gb:.1f} GB: above limits.max_memory_gb = "
-                          f"{limits['max_memory_gb']:g} (raise it to compute this mesh)")
+                          f"{limits.max_memory_gb:g} (raise it to compute this mesh)")
     if steps:
         check_steps(p)
         check_factorization(p)
@@ -105,7 +105,7 @@ def check_factorization(p: Parameters) -> None:
 
 def check_steps(p: Parameters) -> None:
     """ConfigError when the least number of steps of the load path exceeds ``limits.max_steps``."""
-    least, limit = _least_steps(p), p.config["limits"]["max_steps"]
+    least, limit = _least_steps(p), p.limits.max_steps
     if sum(least.values()) > limit:
         key = max(least, key=least.get)
         raise ConfigError(f"{key} = {_value(p, key)!r} needs at least {least[key]:,} steps ({sum(least.values()):,} in "

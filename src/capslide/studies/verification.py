@@ -99,7 +99,7 @@ def sweep(params: Parameters, scene: str | None = None, progress=None) -> list[V
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     adhesive = not params.contact.repulsion_only
     w = a.W_adh if adhesive else 0.0
-    loads = sorted(params.config["verification"]["loads"], reverse=True)
+    loads = sorted(params.verification.loads, reverse=True)
     records: list[StepRecord] = []
     if adhesive and L.approach_edge_step > 0.0:
         states, F_max, how = edge_controlled_sweep(model, loads, records, progress)
