@@ -9,6 +9,8 @@ import subprocess
 import sys
 import termios
 
+import pytest
+
 from conftest import PAPER_CONFIG
 
 RUN = [sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), "--set", "preset=fast", "--set", "mesh.size=32",
@@ -62,3 +64,26 @@ def test_without_a_terminal_one_line_per_step_and_the_cut_backs(tmp_path):
     assert re.match(r"capslide: building the mesh: [0-9,]+ Q1 cells, [0-9,]+ DOF$", notices[0]), notices[0]
     assert any(": cut-back 1 at " in n for n in notices), notices  # the onset check cuts back the step that
     # would close the stick zone (slide_rules.onset_check), at ubar = 2
+
+
+def test_the_plan_is_the_paths_own_legs():
+    """The progress display's plan comes from the path: the legs a loading runs, spans that tile [0, 1]."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.legs import LegName, plan
+
+    def loading(**kw):
+        return SimpleNamespace(**{"approach_edge_step": 0.0, "dwell": 0.0, "ubar_max": 5.0, "slide_back": False, **kw})
+
+    spans = plan(loading())
+    assert list(spans) == [LegName.APPROACH, LegName.PRELOAD, LegName.SLIDE, LegName.DONE]
+    assert spans[LegName.APPROACH][0] == 0.0 and spans[LegName.SLIDE][1] == 1.0
+    back = plan(loading(dwell=2.0, slide_back=True, approach_edge_step=0.4))
+    assert list(back) == [LegName.APPROACH, LegName.SPREAD, LegName.PRELOAD, LegName.DWELL, LegName.SLIDE,
+                          LegName.SLIDE_BACK, LegName.DONE]
+    ends = [hi for lo, hi in back.values()]
+    assert all(a == pytest.approx(b[0]) for a, b in zip(ends[:-2], list(back.values())[1:-1]))  # contiguous
+    assert back[LegName.SLIDE][1] - back[LegName.SLIDE][0] == pytest.approx(back[LegName.SLIDE_BACK][1]
+                                                                           - back[LegName.SLIDE_BACK][0])
+    assert list(plan(loading(ubar_max=0.0))) == [LegName.APPROACH, LegName.PRELOAD, LegName.DONE]
+    assert LegName.SLIDE == "slide"  # saved states keep the text

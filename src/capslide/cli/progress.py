@@ -2,9 +2,9 @@
 line per step elsewhere.
 
 The bar fits 80 columns and shows the phase, the load (ubar, or Fn in the preload), the percent of the planned path,
-the steps, the last step's Newton iterations, the elapsed time and an estimate of the time left. The planned path
-weights the legs by their usual share of the steps: approach 10 %, preload 20 %, slide 70 % (half of it back with
-``loading.slide_back``). Notices (building the mesh, cut-backs) show in the bar's last field, or as log lines.
+the steps, the last step's Newton iterations, the elapsed time and an estimate of the time left. The planned path is
+the path's own (:func:`capslide.loadpath.cap.plan`): its legs weighted by their usual share of the steps. Notices
+(building the mesh, cut-backs) show in the bar's last field, or as log lines.
 """
 
 from __future__ import annotations
@@ -13,31 +13,33 @@ import shutil
 import sys
 
 from ..driver.observers import Observer
+from ..loadpath.legs import LegName, plan
 
 __all__ = ["ProgressDisplay", "path_fraction", "in_notebook"]
 
 WIDTH = 80
-_SPANS = {"approach": (0.0, 0.10), "spread": (0.10, 0.15), "preload": (0.15, 0.30), "dwell": (0.30, 0.30),
-          "slide": (0.30, 1.0), "done": (1.0, 1.0)}
 
 
 def path_fraction(step, loading, leg_start: float | None) -> float:
-    """Fraction of the planned path (0 to 1) reached at a path step; ``leg_start`` is the load parameter where the
-    running preload target's leg started."""
+    """Fraction of the planned path (0 to 1) reached at a path step, on the spans of the path's own plan
+    (:func:`capslide.loadpath.cap.plan`); ``leg_start`` is the load parameter where the running preload target's leg
+    started."""
     state, rec = step.state, step.record
+    spans = plan(loading)
+    lo, hi = spans.get(state.leg, (1.0, 1.0))
     if state.loop is None:  # the step finished a leg: the path stands at the start of the next one
-        return _SPANS.get(state.leg, _SPANS["slide"])[0] if state.leg != "slide back" else 0.65
-    lo, hi = _SPANS.get(state.leg, (0.65, 1.0))
+        return lo
     value = state.loop.value
-    if state.leg == "approach":
+    if state.leg == LegName.APPROACH:
         inner = (loading.approach_start_gap - value) / (loading.approach_start_gap - loading.approach_end_gap)
-    elif state.leg == "preload" and state.targets:
+    elif state.leg == LegName.PRELOAD and state.targets:
         span = abs(state.targets[0] - (leg_start if leg_start is not None else value)) or 1.0
         done = 1.0 - abs(state.targets[0] - value) / span
         inner = done / len(state.targets) if len(state.targets) > 1 else done
-    elif state.leg in ("slide", "slide back") and loading.ubar_max:
-        hi = 0.65 if loading.slide_back and state.leg == "slide" else hi
-        inner = rec.ubar / loading.ubar_max if state.leg == "slide" else 1.0 - rec.ubar / loading.ubar_max
+    elif state.leg in (LegName.SLIDE, LegName.SLIDE_BACK) and loading.ubar_max:
+        inner = rec.ubar / loading.ubar_max if state.leg == LegName.SLIDE else 1.0 - rec.ubar / loading.ubar_max
+    elif state.leg == LegName.DWELL and loading.dwell:
+        inner = value / loading.dwell
     else:
         inner = 0.5
     return lo + (hi - lo) * min(max(inner, 0.0), 1.0)

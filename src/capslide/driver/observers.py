@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from ..io.checkpoint import CheckpointWriter, SavedCase
 from ..loadpath.cap import PathEnd, PathState, PathStep
 from ..loadpath.continuation import Notice
+from ..loadpath.legs import LegName
 from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
 from ..model.system import CapModel
 from ..states import Status
@@ -65,7 +66,7 @@ class Snapshots(Observer):
             self.snapshots.append(field_snapshot(self.model, state.x, 0.0, state.history))
 
     def _starts_slide(self, state: PathState) -> bool:
-        return self.at_start and state.leg == "slide" and state.loop is None
+        return self.at_start and state.leg == LegName.SLIDE and state.loop is None
 
     def step(self, step):
         if self._starts_slide(step.state):  # this state starts the slide
@@ -90,7 +91,7 @@ class PeelOff(Observer):
         self.records, self.Fn = records, Fn
 
     def end(self, end):
-        if end.status != Status.DIVERGED or end.leg != "slide" or not peeling_off(self.records, self.Fn):
+        if end.status != Status.DIVERGED or end.leg != LegName.SLIDE or not peeling_off(self.records, self.Fn):
             return end
         last = self.records[-1]
         reason = (f"slide: no equilibrium at Fn = {self.Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling "
@@ -120,7 +121,7 @@ class Snap(Observer):
         self.records, self.weakening = records, weakening
 
     def end(self, end):
-        if self.weakening is None or end.status != Status.DIVERGED or end.leg != "slide":
+        if self.weakening is None or end.status != Status.DIVERGED or end.leg != LegName.SLIDE:
             return end
         last = self.records[-1]
         peak = max((abs(r.Ft) for r in self.records if r.phase == last.phase), default=abs(last.Ft))

@@ -40,22 +40,21 @@ from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, FixedHei
 from ..model.system import CapModel, History
 from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
+from .legs import LEGS, LegName, plan
 from .measures import StepRecord, fully_sliding
 from .preload_targets import preload_targets
 from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check, steady_sliding
 
-__all__ = ["LEGS", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path", "after_normal_state",
-           "approach_control", "approach_step_limit", "spread_control", "spread_constraint", "onset_step_limit", "fully_sliding",
-           "preload_targets", "continued_from", "slide_constraint", "snap_check"]
-
-LEGS = ("approach", "spread", "preload", "dwell", "slide", "slide back", "done")
+__all__ = ["LEGS", "LegName", "plan", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path",
+           "after_normal_state", "approach_control", "approach_step_limit", "spread_control", "spread_constraint",
+           "onset_step_limit", "fully_sliding", "preload_targets", "continued_from", "slide_constraint", "snap_check"]
 
 
 @dataclass
 class PathState:
     """Where the path stands between two steps; ``load_path(model, start=state)`` goes on from here."""
 
-    leg: str  # the running leg, or the next one when ``loop`` is None (one of LEGS)
+    leg: LegName  # the running leg, or the next one when ``loop`` is None (a str of LEGS when read from a file)
     x: np.ndarray  # the current converged state [u, h]
     history: History = field(default_factory=History)
     loop: Loop | None = None  # loop variables of the running leg
@@ -104,8 +103,8 @@ def initial_state(model: CapModel) -> PathState:
     x = np.zeros(model.n_dofs + 1)
     x[-1] = model.params.geometry.H + model.params.loading.approach_start_gap
     if model.params.friction.active_from == "contact":
-        return PathState("approach", x, model.start_friction(x, 0.0))
-    return PathState("approach", x)
+        return PathState(LegName.APPROACH, x, model.start_friction(x, 0.0))
+    return PathState(LegName.APPROACH, x)
 
 
 def seconds_per_unit(model: CapModel) -> float:
@@ -183,23 +182,23 @@ def _run(model: CapModel, state: PathState, steps: Generator[Converged | Notice,
 def _finish_leg(model: CapModel, state: PathState, after: str) -> None:
     cut, smallest = state.totals()
     state.cutbacks, state.smallest, state.loop = cut, smallest, None
-    if state.leg == "preload":
+    if state.leg == LegName.PRELOAD:
         state.targets = state.targets[1:]
         if state.targets:
             return
-    if after == "preload":
+    if after == LegName.PRELOAD:
         state.targets = _preload_targets(model, state)
     state.leg = after
 
 
-def _after_preload(model: CapModel) -> str:
+def _after_preload(model: CapModel) -> LegName:
     if model.params.loading.dwell > 0.0:
-        return "dwell"
+        return LegName.DWELL
     return _after_dwell(model)
 
 
-def _after_dwell(model: CapModel) -> str:
-    return "slide" if model.params.loading.ubar_max != 0.0 else "done"
+def _after_dwell(model: CapModel) -> LegName:
+    return LegName.SLIDE if model.params.loading.ubar_max != 0.0 else LegName.DONE
 
 
 def _current_Fn(model: CapModel, state: PathState) -> float:
@@ -220,11 +219,11 @@ def continued_from(loading, preloaded: PathState, reached: float, Fn_approached:
     ours = preload_targets(loading, Fn_approached)
     theirs = preload_targets(replace(loading, preload=reached), Fn_approached)
     if (len(ours) <= len(theirs) or ours[:len(theirs)] != theirs or preloaded.loop is not None or preloaded.targets
-            or preloaded.leg not in ("dwell", "slide", "done")):
+            or preloaded.leg not in (LegName.DWELL, LegName.SLIDE, LegName.DONE)):
         return None
     if not preloaded.marks or preloaded.marks[-1].phase != Phase.PRELOAD:
         return None
-    return PathState("preload", preloaded.x, preloaded.history, None, ours[len(theirs):], list(preloaded.marks),
+    return PathState(LegName.PRELOAD, preloaded.x, preloaded.history, None, ours[len(theirs):], list(preloaded.marks),
                      preloaded.cutbacks, preloaded.smallest)
 
 
@@ -233,7 +232,7 @@ def _approach(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Pat
     control = approach_control(model)
     if state.loop is None:
         state.loop = Loop.start(state.x, L.approach_start_gap, L.approach_end_gap, control)
-    after = "spread" if L.approach_edge_step > 0.0 else "preload"
+    after = LegName.SPREAD if L.approach_edge_step > 0.0 else LegName.PRELOAD
     steps = continuation(model, state.loop, state.history,
                          Leg(FixedApexGap, L.approach_end_gap, control, Phase.APPROACH, "approach",
                              step_limit=approach_step_limit(model), seconds_per_unit=seconds_per_unit(model)))
@@ -249,7 +248,7 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
     steps = continuation(model, state.loop, state.history,
                          Leg(constraint_of, X_end, control, Phase.SPREAD, "approach", ends=until,
                              seconds_per_unit=seconds_per_unit(model)))
-    return (yield from _run(model, state, steps, "preload"))
+    return (yield from _run(model, state, steps, LegName.PRELOAD))
 
 
 def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
@@ -288,7 +287,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         state.onset_ceiling = math.nan
     min_area = _min_area(model)
     detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
-    forward = name == "slide"
+    forward = name == LegName.SLIDE
     rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
     direction = 1.0 if end >= start else -1.0
@@ -315,13 +314,13 @@ def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
             state.history = model.start_friction(state.x, 0.0, state.history)
         if state.stage_h is None:
             state.stage_h = float(state.x[-1])
-    after = "slide back" if L.slide_back else "done"
-    return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), "slide", after))
+    after = LegName.SLIDE_BACK if L.slide_back else LegName.DONE
+    return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), LegName.SLIDE, after))
 
 
 def _slide_back(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     L = model.params.loading
-    return (yield from _slide_leg(model, state, L.ubar_max, 0.0, (), "slide back", "done"))
+    return (yield from _slide_leg(model, state, L.ubar_max, 0.0, (), LegName.SLIDE_BACK, LegName.DONE))
 
 
 def _dwell(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
@@ -337,15 +336,15 @@ def _dwell(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
     return (yield from _run(model, state, steps, _after_dwell(model)))
 
 
-_LEG_RUNNERS = {"approach": _approach, "spread": _spread, "preload": _preload, "dwell": _dwell, "slide": _slide,
-                "slide back": _slide_back}
+_LEG_RUNNERS = {LegName.APPROACH: _approach, LegName.SPREAD: _spread, LegName.PRELOAD: _preload,
+                LegName.DWELL: _dwell, LegName.SLIDE: _slide, LegName.SLIDE_BACK: _slide_back}
 
 
 def after_normal_state(model: CapModel, state: PathState) -> PathState:
     """``state`` with its next leg set by ``model``'s own loading when the path stands just after its last preload
     step (a normal state, computed with another dwell or ubar_max): a dwell when this case asks for one, then the
     slide; unchanged elsewhere."""
-    preloaded = (state.loop is None and not state.targets and state.leg in ("dwell", "slide", "done")
+    preloaded = (state.loop is None and not state.targets and state.leg in (LegName.DWELL, LegName.SLIDE, LegName.DONE)
                  and bool(state.marks) and state.marks[-1].phase == Phase.PRELOAD)
     if preloaded:
         state.leg = _after_preload(model)
@@ -363,7 +362,7 @@ def _counted(steps: Generator, seen: list[int]) -> Generator:
 
 
 def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
-              stop_before: str = "done") -> Generator[PathStep, None, PathEnd]:
+              stop_before: str = LegName.DONE) -> Generator[PathStep, None, PathEnd]:
     """Converged steps of the cap's load path from ``start`` (default: :func:`initial_state`) until the leg
     ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
     how the path ended. A leg that ends without a step and leaves the path where it was ends it diverged (no
