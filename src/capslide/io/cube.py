@@ -61,7 +61,8 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
                                                                          -1 if cases[i][name].dtype.kind == "i" else np.nan)])
 
     dims3 = ("model", "preload", "step")
-    data = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in STEP_VARIABLES}
+    present = lambda names: [n for n in names if all(n in c.variables for c in cases)]  # noqa: E731 (time: with a velocity)
+    data = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in present(STEP_VARIABLES)}
     data.update({name: (("model", "preload"), cube(name, lambda i, n=name: float(cases[i][n])),
                         dict(cases[0][name].attrs)) for name in CASE_SCALARS})
     status = np.full(shape, -1, dtype=np.int8)
@@ -86,7 +87,7 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
         "case_file": (("model", "preload"), case_file, quantity("source case file", None)),
         "config_yaml": (("model", "preload"), config_yaml, quantity("configuration of the case (YAML)", None)),
     })
-    coords = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in STEP_COORDINATES}
+    coords = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in present(STEP_COORDINATES)}
     coords.update({
         "model": ("model", np.array(models, dtype=object), quantity("study model", None, description="a model of study.models")),
         "preload": ("preload", np.array(preloads), quantity("preload Fn*", cases[0]["Fn"].attrs["units"],

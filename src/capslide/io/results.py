@@ -25,9 +25,10 @@ from ..loadpath.measures import case_energies, surface_reference_x
 from ..states import Phase, SlipState, flag_attributes
 from ..version import software_version
 from .atomic import replacing
+from .catalog import case_scalars, cube_step_coordinates, cube_step_variables, recorded_step_variables, variable
 
 __all__ = ["CONVENTIONS", "LONG_NAME_MAX", "KEY_PARAMETERS", "key_parameters", "scaled_units", "quantity", "global_attrs",
-           "write_netcdf", "mesh_dataset", "case_dataset", "STEP_VARIABLES", "CASE_SCALARS", "PROFILES"]
+           "write_netcdf", "mesh_dataset", "case_dataset", "STEP_VARIABLES", "STEP_COORDINATES", "CASE_SCALARS"]
 
 CONVENTIONS = "CF-1.10"
 LONG_NAME_MAX = 40  # characters: a long_name is an axis label
@@ -38,13 +39,10 @@ KEY_PARAMETERS = ("material.E", "material.nu", "material.model", "adhesion.T_max
                   "geometry.R", "geometry.H", "friction.model", "friction.mu_DI", "friction.mu_EA", "friction.s_cut",
                   "mesh.element", "mesh.size", "mesh.formulation", "preset", "loading.preload", "loading.ubar_max",
                   "loading.normal_control", "loading.velocity")
-STEP_VARIABLES = ("Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right", "newton_iterations",
-                  "krylov_iterations", "wall_time", "steady_step", "area_reference", "x_stick_left", "x_stick_right",
-                  "Ft_over_area", "elastic_energy", "dissipation", "adhesion_energy", "penalty_energy", "external_work",
-                  "energy_residual")
-STEP_COORDINATES = ("phase", "ubar", "h")
-CASE_SCALARS = ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area")
-PROFILES = ("x_current", "y_current", "gap", "traction_n", "traction_t", "slip_state", "slip", "slip_rate")
+STEP_VARIABLES = cube_step_variables()  # what the collected cube keeps of a case (io.catalog)
+STEP_COORDINATES = cube_step_coordinates()
+CASE_SCALARS = case_scalars()
+PROFILE = ("step", "surface_point")
 
 
 def scaled_units(E: float, L0: float) -> dict[str, str]:
@@ -140,117 +138,53 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: s
     return ds
 
 
-def _slip_profiles(recs, slip: np.ndarray, length: str) -> dict:
+def _attrs(name: str, units: Mapping[str, str], **values) -> dict:
+    """CF attributes of the catalog's variable ``name`` (:mod:`capslide.io.catalog`): its unit scaled by ``units``
+    (:func:`scaled_units`), its description with ``values`` filled in."""
+    v = variable(name)
+    return quantity(v.long_name, units.get(v.unit, v.unit), v.normalization,
+                    v.description.format(**values) if values else v.description)
+
+
+def _slip_profiles(recs, slip: np.ndarray, u: Mapping[str, str]) -> dict:
     """Accumulated slip and slip rate per unit ubar of each surface point in contact (slip: the anchors' moves of
     the steps, signed)."""
     state = np.stack([r.slip_state for r in recs]) if recs else np.zeros(slip.shape, dtype=np.int8)
     slip = np.where((state == SlipState.STICK) | (state == SlipState.SLIP), slip, 0.0)
     dubar = np.diff([r.ubar for r in recs], prepend=recs[0].ubar if recs else 0.0)[:, None]
     rate = np.divide(slip, dubar, out=np.full(slip.shape, np.nan), where=dubar != 0.0)
-    return {"slip": (("step", "surface_point"), np.cumsum(np.abs(slip), axis=0),
-                     quantity("accumulated slip", length, "L0",
-                              "slip accumulated up to the step: the sum of |slip| of the steps, in contact")),
-            "slip_rate": (("step", "surface_point"), rate,
-                          quantity("slip rate per unit ubar", "1", description="slip of the step per unit ubar, signed "
-                                   "(+x: the cap slips in the sliding direction relative to the substrate; NaN where "
-                                   "ubar does not change)"))}
-
-
-def _energy_balance(energies: dict[str, np.ndarray], energy: str) -> dict:
-    """The work of the loads and the balance's residual (:func:`capslide.loadpath.measures.case_energies`) as
-    step variables."""
-    return {"external_work": ("step", energies["external_work"],
-                              quantity("work of the loads", energy, "E L0^2 W",
-                                       "work of the loads on the substrate up to the step, per unit width: "
-                                       "int Fn dh + Ft dubar (trapezoidal rule)")),
-            "energy_residual": ("step", energies["energy_residual"],
-                                quantity("energy balance residual", energy, "E L0^2 W",
-                                         "external_work - (elastic + adhesion + penalty energy, change from step 0) "
-                                         "- dissipation"))}
+    return {"slip": (PROFILE, np.cumsum(np.abs(slip), axis=0), _attrs("slip", u)),
+            "slip_rate": (PROFILE, rate, _attrs("slip_rate", u))}
 
 
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
-    """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md)."""
+    """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md); every variable over the steps and
+    the surface points, and every case scalar, as the catalog (:mod:`capslide.io.catalog`) gives it."""
     p, recs, mesh = result.params, result.records, result.mesh
     u = scaled_units(p.units.E, p.units.L0)
     step = lambda name, dt=float: np.array([getattr(r, name) for r in recs], dtype=dt)  # noqa: E731
     n_pts = len(recs[0].gap) if recs else 0
     prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
                                    if recs else np.zeros((0, n_pts), dtype=dt))
-    on_step = {
-        "Fn": quantity("normal force Fn", u["force"], "E L0 W",
-                       "normal contact force on the cap, positive = tensile"),
-        "Ft": quantity("friction force Ft", u["force"], "E L0 W",
-                       "tangential contact force on the cap, positive in the sliding direction"),
-        "area": quantity("contact area A", u["length"], "L0",
-                         f"current length where g_n <= {p.contact.area_gap:.5g} L0"),
-        "area_compressive": quantity("compressive contact area", u["length"], "L0", "current length where Tn >= 0"),
-        "area_stick": quantity("stick area", u["length"], "L0", "current length of sticking points in contact"),
-        "x_left": quantity("left contact edge x", u["length"], "L0", "current x of the left (trailing) contact edge"),
-        "x_right": quantity("right contact edge x", u["length"], "L0", "current x of the right (leading) contact edge"),
-        "area_reference": quantity("reference contact area", u["length"], "L0",
-                                   "reference length of the contact (the contact area in the reference configuration)"),
-        "x_stick_left": quantity("left stick edge x", u["length"], "L0",
-                                 "current x of the stick zone's left edge (NaN: nothing sticks)"),
-        "x_stick_right": quantity("right stick edge x", u["length"], "L0",
-                                  "current x of the stick zone's right edge (NaN: nothing sticks)"),
-        "elastic_energy": quantity("strain energy", u["energy"], "E L0^2 W", "strain energy of the cap per unit width"),
-        "adhesion_energy": quantity("adhesion energy", u["energy"], "E L0^2 W",
-                                    "adhesive potential of the interface per unit width (NaN with theta_k = J_s)"),
-        "penalty_energy": quantity("penalty energy", u["energy"], "E L0^2 W",
-                                   "elastic energy of the tangential penalty per unit width"),
-    }
-    data = {name: ("step", step(name), attrs) for name, attrs in on_step.items()}
+    data = {v.name: ("step", step(v.record, v.dtype), _attrs(v.name, u, area_gap=p.contact.area_gap))
+            for v in recorded_step_variables()}
     area = step("area")
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
-                            quantity("Ft / A", u["stress"], "E",
-                                     "mean shear stress in contact (NaN without contact)"))
+                            _attrs("Ft_over_area", u))
     energies = case_energies(recs, mesh, p.mesh.surface_gauss_points)
-    data["dissipation"] = ("step", energies["dissipation"], quantity("dissipated work", u["energy"], "E L0^2 W",
-                                                        "frictional work dissipated up to the step, per unit width: "
-                                                        "sum over steps of -(Tt before + Tt after) / 2 x slip x dA"))
-    data.update(_energy_balance(energies, u["energy"]))
+    data.update({name: ("step", energies[name], _attrs(name, u))
+                 for name in ("dissipation", "external_work", "energy_residual")})
     data.update({
-        "newton_iterations": ("step", step("newton_iterations", np.int32), quantity("Newton iterations of the step", "1")),
-        "krylov_iterations": ("step", step("krylov_iterations", np.int32), quantity("Krylov iterations of the step", "1")),
-        "wall_time": ("step", step("wall_time"), quantity("wall time of the step", "s")),
-        "steady_step": ("step", step("steady_step", np.int8),
-                        quantity("steady long step", "1", description="1: the step went in one to the next snapshot ubar or "
-                                 "the leg's end, the sliding being steady (Ft, area and gaps unchanged to 1e-8 over "
-                                 "the steps before and over it); 0: a step of the adaptive step control")),
-        "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float),
-                         quantity("base force x", u["force"], "E L0 W",
-                                  "x force of the clamped base on the cap; force balance: Ft + base_force_x = 0")),
-        "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float),
-                         quantity("base force y", u["force"], "E L0 W",
-                                  "y force of the clamped base on the cap; force balance: Fn + base_force_y = 0")),
+        "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float), _attrs("base_force_x", u)),
+        "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float), _attrs("base_force_y", u)),
     })
     if p.output.surface_profiles:
-        data.update({
-            "x_current": (("step", "surface_point"), prof("x_surface"), quantity("current x of the surface point",
-                                                                                 u["length"], "L0")),
-            "y_current": (("step", "surface_point"), prof("y_surface"), quantity("current y of the surface point",
-                                                                                 u["length"], "L0")),
-            "gap": (("step", "surface_point"), prof("gap"), quantity("normal gap g_n", u["length"], "L0")),
-            "traction_n": (("step", "surface_point"), prof("traction_n"),
-                           quantity("normal traction Tn", u["stress"], "E",
-                                    "per reference area, positive = repulsive")),
-            "traction_t": (("step", "surface_point"), prof("traction_t"),
-                           quantity("tangential traction Tt", u["stress"], "E",
-                                    "on the cap per reference area, positive = +x")),
-            "slip_state": (("step", "surface_point"), prof("slip_state", np.int8),
-                           flag_attributes(SlipState, "friction state of the surface point")),
-            **_slip_profiles(recs, prof("slip"), u["length"]),
-        })
-    s = result.scalars
-    data.update({
-        "peak_Ft": ((), s["peak_Ft"], quantity("peak Ft", u["force"], "E L0 W", "largest |Ft| while sliding (signed)")),
-        "onset_ubar": ((), s["onset_ubar"], quantity("onset ubar", u["length"], "L0",
-                                                     "ubar at the onset of full sliding (NaN: not reached)")),
-        "onset_Ft": ((), s["onset_Ft"], quantity("onset Ft", u["force"], "E L0 W", "Ft at the onset of full sliding")),
-        "onset_area": ((), s["onset_area"], quantity("onset area", u["length"], "L0",
-                                                     "contact area at the onset of full sliding")),
-    })
+        data.update({name: (PROFILE, prof(variable(name).record), _attrs(name, u))
+                     for name in ("x_current", "y_current", "gap", "traction_n", "traction_t")})
+        data["slip_state"] = (PROFILE, prof("slip_state", np.int8),
+                              flag_attributes(SlipState, variable("slip_state").long_name))
+        data.update(_slip_profiles(recs, prof("slip"), u))
+    data.update({name: ((), result.scalars[name], _attrs(name, u)) for name in case_scalars()})
     snaps = result.snapshots
     k, nn, nc = len(snaps), mesh.n_nodes, mesh.n_cells
     data.update({
@@ -266,10 +200,9 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     })
     coords = {
         "step": ("step", np.arange(len(recs), dtype=np.int32), quantity("converged load step", "1")),
-        "phase": ("step", step("phase", np.int8), flag_attributes(Phase, "load phase")),
-        "ubar": ("step", step("ubar"), quantity("tangential displacement of the substrate", u["length"], "L0")),
-        "h": ("step", step("h"), quantity("substrate height h", u["length"], "L0",
-                                      "height of the substrate's lower face above the base")),
+        "phase": ("step", step("phase", np.int8), flag_attributes(Phase, variable("phase").long_name)),
+        "ubar": ("step", step("ubar"), _attrs("ubar", u)),
+        "h": ("step", step("h"), _attrs("h", u)),
         "X_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
                         quantity("reference x of the surface Gauss point", u["length"], "L0")),
         "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
@@ -278,7 +211,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u["length"], "L0")),
     }
     if p.loading.velocity is not None:  # time is tracked
-        coords["time"] = ("step", step("time"), quantity("time since the start of the approach", "s"))
+        coords["time"] = ("step", step("time"), _attrs("time", u))
     if p.material.prony_g:
         data["elastic_energy"][2]["long_name"] = "stored energy"
         data["elastic_energy"][2]["description"] = ("stored energy of the cap per unit width: the neo-Hooke part and "

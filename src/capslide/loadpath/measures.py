@@ -7,7 +7,7 @@ positive when tensile, Ft positive in the sliding direction, Tn positive when re
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -56,10 +56,9 @@ class StepRecord:
     steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
 
 
-RECORD_SCALARS = ("phase", "ubar", "h", "Fn", "Ft", "area", "area_compressive", "area_stick", "x_left", "x_right",
-                  "newton_iterations", "krylov_iterations", "wall_time", "area_reference", "x_stick_left",
-                  "x_stick_right", "elastic_energy", "adhesion_energy", "penalty_energy", "time", "steady_step")
-RECORD_PROFILES = ("x_surface", "y_surface", "gap", "traction_n", "traction_t", "slip_state", "reaction", "slip")
+# The record's fields, from its definition: scalars, and arrays (per surface point; the base reaction)
+RECORD_PROFILES = tuple(f.name for f in fields(StepRecord) if f.type == "np.ndarray")
+RECORD_SCALARS = tuple(f.name for f in fields(StepRecord) if f.name not in RECORD_PROFILES)
 
 
 @dataclass
