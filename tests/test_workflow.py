@@ -136,7 +136,7 @@ def test_smoke_workflow_end_to_end(workdir):
     rep = snakemake(workdir, "--configfile", "config/smoke.yaml", "--report", "report.html")
     assert rep.returncode == 0, rep.stdout[-2000:] + rep.stderr[-2000:]
     page = (workdir / "report.html").read_text()
-    assert len(page) > 200_000 and all(f"Reproduces <strong>{f}</strong>" in page for f in ("f:Tn", "f:cap:Aczoom", "f:cap:xn"))
+    assert len(page) > 200_000 and all(f"Reproduces <strong>{f}</strong>" in page for f in ("Fig. 6", "Fig. 13", "Fig. 10b"))
     assert "config.yaml;base64," in page and "The configuration of this run" in page  # the validated config
     leaks = [s for s in (str(workdir), str(ROOT), ".venv", os.path.expanduser("~") + "/") if s in page]
     assert not leaks, leaks  # no local path: the report is shared

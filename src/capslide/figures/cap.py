@@ -205,6 +205,12 @@ def _snapshot_geometry(case, k: int):
     return corners, case["I1_sigma"][k].values, float(case["h"][step]), step
 
 
+def _deformed_nodes(case, k: int) -> np.ndarray:
+    """Node positions (n_nodes, 2) of snapshot k."""
+    X = np.column_stack([case["X_node"].values, case["Y_node"].values])
+    return X + np.column_stack([case["u_node"][k].values, case["v_node"][k].values])
+
+
 def _cells_in_window(corners, xlim, ylim):
     """Cells whose bounding box overlaps the window (so the window is filled to its edges)."""
     lo, hi = corners.min(axis=1), corners.max(axis=1)
@@ -219,6 +225,18 @@ def _stress_cells(ax, corners, I1, norm, **kw):
     return pc
 
 
+def _stress_smooth(ax, nodes, cells, I1, norm):
+    """I1(sigma) over the quadrilateral ``cells`` (corner node ids) as a smooth field: the cell averages averaged at
+    the nodes and shaded between them (Gouraud), so the element facets do not show."""
+    total, count = np.zeros(len(nodes)), np.zeros(len(nodes))
+    np.add.at(total, cells, np.repeat(I1[:, None], cells.shape[1], axis=1))
+    np.add.at(count, cells, 1.0)
+    nodal = np.divide(total, count, out=np.zeros_like(total), where=count > 0)
+    triangles = np.concatenate([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]]])
+    return ax.tripcolor(nodes[:, 0], nodes[:, 1], triangles, nodal, shading="gouraud", cmap="RdBu_r", norm=norm,
+                        rasterized=True)
+
+
 def _substrate(ax, h, xlim, thickness):
     from matplotlib.patches import Rectangle
 
@@ -231,6 +249,20 @@ def _symmetric_norm(values):
 
     vmax = float(np.nanpercentile(np.abs(values), 99.5)) if values.size else 1.0
     return TwoSlopeNorm(vcenter=0.0, vmin=-max(vmax, 1e-12), vmax=max(vmax, 1e-12))
+
+
+def _fit_height(fig, axes, rect) -> None:
+    """Lay out panels of a fixed aspect, then shrink the figure's height to what they use: no blank band between
+    the title and the panels."""
+    fig.tight_layout(rect=rect)
+    fig.canvas.draw()
+    shown = [ax for ax in axes.flat if ax.get_visible()]
+    slack = sum(ax.get_position(original=True).height - ax.get_position(original=False).height
+                for ax in shown[::axes.shape[1]])  # one panel per row
+    height = fig.get_figheight()
+    if slack > 0.01:
+        fig.set_figheight(height * (1.0 - slack))
+        fig.tight_layout(rect=rect)
 
 
 def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
@@ -267,13 +299,13 @@ def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5,
         c0 = c0[_cells_in_window(c0, xlim, ylim)]
         x0, y0 = case["x_current"][s0].values, case["y_current"][s0].values
     pc = None
-    for ax, k, (corners, I1, h, _), m in zip(axes.flat, ks, geo, picked):
+    for ax, k, (_, I1, h, _), m in zip(axes.flat, ks, geo, picked):
         _substrate(ax, h, xlim, depth)
         if k0 is not None:
             from matplotlib.collections import PolyCollection
 
             ax.add_collection(PolyCollection(c0, facecolors=ORANGE, edgecolors="none", alpha=0.35, rasterized=True))
-        pc = _stress_cells(ax, corners[m], I1[m], norm)
+        pc = _stress_smooth(ax, _deformed_nodes(case, k), case["cell_nodes"].values[m, :4], I1[m], norm)
         if x0 is not None:
             ax.plot(x0, y0, "-", color=ORANGE, lw=0.8)
         ax.set(xlim=xlim, ylim=ylim, aspect=stretch)
@@ -287,7 +319,7 @@ def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5,
         ax.set_ylabel(r"$y\,/\,L_0$")
     fig.suptitle(fr"contact interface during sliding, vertical axis stretched by {stretch:g} "
                  r"(orange: $\bar{u} = 0$)", fontsize=8)
-    fig.tight_layout(rect=(0, 0, 0.92, 1))
+    _fit_height(fig, axes, rect=(0, 0, 0.92, 1))
     cax = fig.add_axes((0.93, 0.15, 0.012, 0.7))
     fig.colorbar(pc, cax=cax, label=r"$I_1(\sigma)\,/\,E$")
     return fig

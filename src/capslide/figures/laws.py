@@ -164,5 +164,11 @@ def fig_TnTt(p: Parameters, mu: float = 0.2, tau_over_T_max: float = 0.5, g_cut_
         ax.axvline(0.0, color="k", lw=0.4)
         ax.set(xlim=(-0.6, 2.0), ylim=(-0.45, 0.45), title=f"({letter}) {title}",
                xlabel=r"normal traction $T_\mathrm{n}\,/\,T_0$", ylabel=r"sliding traction $\pm T_\mathrm{slide}\,/\,T_0$")
-    fig.tight_layout()
+    # what the stars mark: the states at these normal gaps
+    keys = [(GREEN, r"$g_\mathrm{n} = r_0/2$"), (ORANGE, r"$g_\mathrm{n} = g_\mathrm{eq}$"),
+            (YELLOW, r"$g_\mathrm{n} = g_\mathrm{max}$"), (PURPLE, r"$g_\mathrm{n} = 1.2\,g_\mathrm{cut}$ (DI)")]
+    handles = [plt.Line2D([], [], ls="", marker="*", color=c, markersize=8, markeredgewidth=0.4, markeredgecolor="k",
+                          label=text) for c, text in keys]
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.legend(handles=handles, loc="lower center", ncol=4, frameon=False)
     return fig
