@@ -347,3 +347,17 @@ def test_a_state_for_friction_from_the_slide_is_refused_naming_active_from(state
     res = capslide("run", PAPER_CONFIG, *SETS, "--set", "friction.active_from=contact", "--from-state", state[0], "-q",
                    "-o", tmp_path / "o.nc")
     one_line_error(res, "friction.active_from = 'slide' there, 'contact' here")
+
+
+def test_a_checkpoint_names_its_chunks_inside_itself():
+    """A chunk entry that points outside the checkpoint directory is refused before anything is read."""
+    from capslide.io.state_check import BadField, check_header
+
+    meta = {"leg": "slide", "loop": None, "targets": [], "marks": [], "cutbacks": 0, "smallest": 1.0, "stage_h": None,
+            "time": 0.0, "onset_ceiling": float("nan"), "elapsed": 1.0,
+            "chunks": [{"file": "records-a-0000.npz", "kind": "records", "count": 3, "sha256": "x"}]}
+    check_header(meta, "checkpoint")
+    for bad in ("../records.npz", "/etc/passwd", "..", ""):
+        meta["chunks"][0]["file"] = bad
+        with pytest.raises(BadField, match="chunks"):
+            check_header(meta, "checkpoint")

@@ -109,9 +109,14 @@ def check_header(meta: Any, kind: str) -> None:
     if kind == "checkpoint":
         chunks = meta.get("chunks")
         if not isinstance(chunks, list) or not all(
-                isinstance(c, dict) and isinstance(c.get("file"), str) and c.get("kind") in ("records", "snapshots")
+                isinstance(c, dict) and _plain_name(c.get("file")) and c.get("kind") in ("records", "snapshots")
                 and isinstance(c.get("sha256"), str) for c in chunks):
-            raise BadField("chunks", f"= {chunks!r} is not a list of chunk entries")
+            raise BadField("chunks", f"= {chunks!r} is not a list of chunk entries (file names inside the checkpoint)")
+
+
+def _plain_name(name: Any) -> bool:
+    """A file name inside the checkpoint directory: no folder, not '.' or '..'."""
+    return isinstance(name, str) and name not in ("", ".", "..") and "/" not in name and "\\" not in name
 
 
 def _float_array(a: np.ndarray, name: str, ndim: int | None = None, finite: bool = True, integer: bool = False) -> None:
