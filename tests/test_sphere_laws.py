@@ -57,5 +57,6 @@ def test_the_maugis_parameter_of_the_experiment():
     """sphere-facts.md: at lambda = 3 the experiment's sphere has sigma0 of about 0.063 MPa, a range w / sigma0 of
     about 0.44 um."""
     E_star, R, w = analytic.effective_modulus(1.6e6, 0.5), 9.42e-3, 0.027
-    sigma0 = 3.0 / sphere.maugis_parameter_sphere(R, E_star, w, 1.0)  # lambda is linear in sigma0
+    sigma0 = sphere.dugdale_stress_for_lambda(3.0, R, E_star, w)
     assert sigma0 == pytest.approx(0.063e6, rel=0.02) and w / sigma0 == pytest.approx(0.44e-6, rel=0.03)
+    assert sphere.maugis_parameter_sphere(R, E_star, w, sigma0) == pytest.approx(3.0, rel=1e-14)

@@ -24,6 +24,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 __all__ = ["hertz_sphere_radius", "hertz_sphere_peak_pressure", "hertz_sphere_approach", "maugis_parameter_sphere",
+           "dugdale_stress_for_lambda",
            "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales"]
 
 
@@ -47,6 +48,14 @@ def maugis_parameter_sphere(R: float, E_star: float, w: float, sigma0: float) ->
     """lambda = 2 sigma0 (R / (pi w K^2))^(1/3), K = 4 E*/3: JKR is approached for large lambda (Maugis 1992)."""
     K = 4.0 * E_star / 3.0
     return 2.0 * sigma0 * (R / (math.pi * w * K**2)) ** (1.0 / 3.0)
+
+
+def dugdale_stress_for_lambda(lam: float, R: float, E_star: float, w: float) -> float:
+    """The Dugdale stress sigma0 that gives a sphere the Maugis parameter ``lam`` at fixed work of adhesion w: the
+    inverse of :func:`maugis_parameter_sphere` (lambda is linear in sigma0). With the CGCM, sigma0 = T_max, and
+    r0 follows from (T_max, w) (:func:`capslide.params.cgcm_constants`): how a scene sets the interaction range
+    through lambda when the real range cannot be meshed."""
+    return lam / maugis_parameter_sphere(R, E_star, w, 1.0)
 
 
 def md_scales(R: float, E_star: float, w: float) -> dict[str, float]:
