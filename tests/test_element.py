@@ -3,13 +3,15 @@
 import numpy as np
 import pytest
 
-from capslide.fem.element import QUADS, gauss_legendre, gauss_quad, line_shape
+from capslide.fem.element import HEXES, QUADS, gauss_legendre, gauss_quad, line_shape
+
+CELLS = {**QUADS, **HEXES}  # the quadrilaterals and the hexahedron share one tensor-product implementation
 
 
-@pytest.mark.parametrize("name", ["Q1", "Q2"])
+@pytest.mark.parametrize("name", ["Q1", "Q2", "H1"])
 def test_partition_of_unity_and_nodality(name):
-    ref = QUADS[name]
-    pts = np.random.default_rng(0).uniform(-1, 1, size=(50, 2))
+    ref = CELLS[name]
+    pts = np.random.default_rng(0).uniform(-1, 1, size=(50, ref.dim))
     N, dN = ref.shape(pts)
     np.testing.assert_allclose(N.sum(axis=1), 1.0, atol=1e-14)
     np.testing.assert_allclose(dN.sum(axis=1), 0.0, atol=1e-13)
@@ -17,14 +19,14 @@ def test_partition_of_unity_and_nodality(name):
     np.testing.assert_allclose(Nn, np.eye(ref.n_nodes), atol=1e-14)
 
 
-@pytest.mark.parametrize("name", ["Q1", "Q2"])
+@pytest.mark.parametrize("name", ["Q1", "Q2", "H1"])
 def test_gradients_against_finite_differences(name):
-    ref = QUADS[name]
-    pts = np.random.default_rng(1).uniform(-0.9, 0.9, size=(20, 2))
+    ref = CELLS[name]
+    pts = np.random.default_rng(1).uniform(-0.9, 0.9, size=(20, ref.dim))
     _, dN = ref.shape(pts)
     h = 1e-6
-    for k in range(2):
-        e = np.zeros(2)
+    for k in range(ref.dim):
+        e = np.zeros(ref.dim)
         e[k] = h
         fd = (ref.shape(pts + e)[0] - ref.shape(pts - e)[0]) / (2 * h)
         np.testing.assert_allclose(dN[..., k], fd, atol=1e-9)

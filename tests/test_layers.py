@@ -13,7 +13,7 @@ from conftest import ROOT
 
 PACKAGE = ROOT / "src" / "capslide"
 LAYERS = [
-    ("version", "config", "config_rules", "params", "states"),  # parameters and typed states
+    ("version", "config", "config_rules", "params", "constants", "states"),  # parameters and typed states
     ("laws",),  # pure physics laws
     ("fem",),  # discretization
     ("solvers",),  # Newton, linear solvers

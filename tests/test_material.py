@@ -1,6 +1,8 @@
-"""Plane-strain neo-Hooke: stress-free reference, objectivity, small-strain limit, exact tangent."""
+"""Neo-Hooke, plane strain (and 3D where the same checks apply): stress-free reference, objectivity, small-strain
+limit, exact tangent."""
 
 import numpy as np
+import pytest
 
 from capslide.laws import material
 from capslide.params import lame_plane_strain
@@ -8,10 +10,10 @@ from capslide.params import lame_plane_strain
 LAM, MU = lame_plane_strain(1.0, 0.4)
 
 
-def random_F(n, scale=0.3, seed=0):
+def random_F(n, scale=0.3, seed=0, dim=2):
     rng = np.random.default_rng(seed)
-    F = np.eye(2) + scale * rng.uniform(-1, 1, size=(n, 2, 2))
-    assert np.all(material.det2(F) > 0)
+    F = np.eye(dim) + scale * rng.uniform(-1, 1, size=(n, dim, dim))
+    assert np.all(material.det(F) > 0)
     return F
 
 
@@ -57,14 +59,15 @@ def test_cauchy_from_piola():
     np.testing.assert_allclose(s, P @ np.swapaxes(F, 1, 2) / J[:, None, None], atol=1e-13)
 
 
-def test_tangent_against_finite_differences():
-    F = random_F(25, seed=7)
+@pytest.mark.parametrize("dim", [2, 3])
+def test_tangent_against_finite_differences(dim):
+    F = random_F(25, scale=0.3 if dim == 2 else 0.2, seed=7, dim=dim)
     P, A = material.first_piola_and_tangent(F, LAM, MU)
     np.testing.assert_allclose(P, material.first_piola(F, LAM, MU), atol=1e-15)
     h = 1e-6
-    for k in range(2):
-        for L in range(2):
-            dF = np.zeros((2, 2))
+    for k in range(dim):
+        for L in range(dim):
+            dF = np.zeros((dim, dim))
             dF[k, L] = h
             fd = (material.first_piola(F + dF, LAM, MU) - material.first_piola(F - dF, LAM, MU)) / (2 * h)
             np.testing.assert_allclose(A[:, :, :, k, L], fd, atol=1e-8)

@@ -7,6 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 from capslide.config import ConfigError, apply_overrides, load_config, validate
+from capslide.constants import derived_constants
 from capslide.laws.contact import normal_traction_unregularized
 from capslide.params import Parameters, cgcm_constants
 
@@ -49,7 +50,7 @@ def test_si_to_internal_units_in_one_place(paper_config):
     # stresses scale with E, W_adh with E L0: internal values do not change
     assert p2.adhesion.T_max == pytest.approx(p1.adhesion.T_max)
     assert p2.adhesion.r0 == pytest.approx(p1.adhesion.r0)
-    si = p1.derived_constants()["SI"]
+    si = derived_constants(p1)["SI"]
     assert si["r0"] == pytest.approx(0.13188e-6, rel=5e-5)
     assert si["T_max"] == pytest.approx(0.33e6)
     assert si["W_adh"] == pytest.approx(0.027)
@@ -104,9 +105,9 @@ def test_the_constants_si_units_are_derived_and_checked_by_pint(paper):
     """A_H is an energy (J), not 'J m'; each SI value is the internal one times E^a L0^b, converted by pint."""
     import pint
 
-    from capslide.params import SI_UNITS, _si_quantity
+    from capslide.constants import SI_UNITS, _si_quantity
 
-    c = paper.derived_constants()
+    c = derived_constants(paper)
     assert c["SI_units"]["A_H"] == "J" and c["SI_units"]["W_adh"] == "J/m^2"
     assert c["SI"]["A_H"] == pytest.approx(c["internal"]["A_H"] * 2e6 * 1e-18, rel=1e-12)
     assert c["SI"]["W_adh"] == pytest.approx(0.027, rel=1e-12)

@@ -44,7 +44,9 @@ def cmd_config(args) -> int:
 
 def cmd_constants(args) -> int:
     """Print the derived CGCM and friction constants as JSON."""
-    print(json.dumps(parameters(args).derived_constants(), indent=2))
+    from ..constants import derived_constants
+
+    print(json.dumps(derived_constants(parameters(args)), indent=2))
     return 0
 
 

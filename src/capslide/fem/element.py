@@ -10,11 +10,12 @@ Hexahedra live on [-1, 1]^3 (xi, eta, zeta); the trilinear H1 (8 nodes) takes VT
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ReferenceQuad", "QUADS", "ReferenceHex", "HEXES", "gauss_legendre", "gauss_quad", "gauss_hex",
+__all__ = ["ReferenceCell", "QUADS", "HEXES", "gauss_legendre", "gauss_quad", "gauss_hex",
            "line_shape"]
 
 # Local coordinates of the nodes.
@@ -61,73 +62,48 @@ def line_shape(order: int, s) -> tuple[np.ndarray, np.ndarray]:
 
 
 @dataclass(frozen=True)
-class ReferenceQuad:
-    """A Lagrange quadrilateral on [-1, 1]^2."""
+class ReferenceCell:
+    """A Lagrange quadrilateral ([-1, 1]^2) or hexahedron ([-1, 1]^3): the tensor product of 1D Lagrange bases of
+    ``order``, its dimension that of ``nodes``."""
 
     name: str
     order: int
-    nodes: np.ndarray  # (n_nodes, 2) local coordinates
+    nodes: np.ndarray  # (n_nodes, dim) local coordinates
 
     @property
     def n_nodes(self) -> int:
         return len(self.nodes)
 
-    def _index_1d(self) -> tuple[np.ndarray, np.ndarray]:
-        # position of each node in the 1D node list (-1, [0,] 1)
-        grid = np.array([-1.0, 1.0]) if self.order == 1 else np.array([-1.0, 0.0, 1.0])
-        ix = np.searchsorted(grid, self.nodes[:, 0])
-        iy = np.searchsorted(grid, self.nodes[:, 1])
-        return ix, iy
+    @property
+    def dim(self) -> int:
+        return self.nodes.shape[1]
 
     def shape(self, points) -> tuple[np.ndarray, np.ndarray]:
-        """Values (n_points, n_nodes) and local gradients (n_points, n_nodes, 2) at points (n_points, 2)."""
+        """Values (n_points, n_nodes) and local gradients (n_points, n_nodes, dim) at points (n_points, dim)."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
-        Nx, dNx = _lagrange_1d(self.order, points[:, 0])
-        Ny, dNy = _lagrange_1d(self.order, points[:, 1])
-        ix, iy = self._index_1d()
-        N = Nx[:, ix] * Ny[:, iy]
-        dN = np.stack([dNx[:, ix] * Ny[:, iy], Nx[:, ix] * dNy[:, iy]], axis=-1)
+        grid = np.array([-1.0, 1.0]) if self.order == 1 else np.array([-1.0, 0.0, 1.0])
+        values, slopes = [], []  # per direction, (n_points, n_nodes): each node's 1D factor
+        for k in range(self.dim):
+            N1, dN1 = _lagrange_1d(self.order, points[:, k])
+            at = np.searchsorted(grid, self.nodes[:, k])  # position of each node in the 1D node list
+            values.append(N1[:, at])
+            slopes.append(dN1[:, at])
+        N = functools.reduce(np.multiply, values)
+        dN = np.stack([functools.reduce(np.multiply, [slopes[j] if j == k else values[j] for j in range(self.dim)])
+                       for k in range(self.dim)], axis=-1)
         return N, dN
 
     def gauss(self, n: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Default volume rule: 2x2 for Q1, 3x3 for Q2 (full integration)."""
-        return gauss_quad(n if n is not None else self.order + 1)
+        """Default volume rule, full integration: 2 points per direction for order 1, 3 for order 2."""
+        rule = gauss_quad if self.dim == 2 else gauss_hex
+        return rule(n if n is not None else self.order + 1)
 
 
-QUADS = {"Q1": ReferenceQuad("Q1", 1, _Q1_NODES), "Q2": ReferenceQuad("Q2", 2, _Q2_NODES)}
+QUADS = {"Q1": ReferenceCell("Q1", 1, _Q1_NODES), "Q2": ReferenceCell("Q2", 2, _Q2_NODES)}
 
 
 _H1_NODES = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                       [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
 
 
-@dataclass(frozen=True)
-class ReferenceHex:
-    """A Lagrange hexahedron on [-1, 1]^3: the tensor product of 1D Lagrange bases."""
-
-    name: str
-    order: int
-    nodes: np.ndarray  # (n_nodes, 3) local coordinates
-
-    @property
-    def n_nodes(self) -> int:
-        return len(self.nodes)
-
-    def shape(self, points) -> tuple[np.ndarray, np.ndarray]:
-        """Values (n_points, n_nodes) and local gradients (n_points, n_nodes, 3) at points (n_points, 3)."""
-        points = np.atleast_2d(np.asarray(points, dtype=float))
-        grid = np.array([-1.0, 1.0]) if self.order == 1 else np.array([-1.0, 0.0, 1.0])
-        idx = [np.searchsorted(grid, self.nodes[:, k]) for k in range(3)]
-        basis = [_lagrange_1d(self.order, points[:, k]) for k in range(3)]
-        N1 = [b[0][:, i] for b, i in zip(basis, idx)]  # (n_points, n_nodes) per direction
-        D1 = [b[1][:, i] for b, i in zip(basis, idx)]
-        N = N1[0] * N1[1] * N1[2]
-        dN = np.stack([D1[0] * N1[1] * N1[2], N1[0] * D1[1] * N1[2], N1[0] * N1[1] * D1[2]], axis=-1)
-        return N, dN
-
-    def gauss(self, n: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Default volume rule: 2x2x2 for H1 (full integration)."""
-        return gauss_hex(n if n is not None else self.order + 1)
-
-
-HEXES = {"H1": ReferenceHex("H1", 1, _H1_NODES)}
+HEXES = {"H1": ReferenceCell("H1", 1, _H1_NODES)}

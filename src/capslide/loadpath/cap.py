@@ -367,7 +367,7 @@ def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
     ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
     how the path ended. A leg that ends without a step and leaves the path where it was ends it diverged (no
     loop repeats without progress)."""
-    state = after_normal_state(model, start) if start is not None else initial_state(model)
+    state = start if start is not None else initial_state(model)
     while LEGS.index(state.leg) < LEGS.index(stop_before):
         if state.loop is None:  # every leg starts with a fresh factorization: a leg repeats the same arithmetic
             model.solver.invalidate()  # whether the path ran up to it or starts there from a saved state
