@@ -1,9 +1,9 @@
 """Bulk finite element assembly with a sparse pattern built once per mesh.
 
-DOFs are node-major: dof 2n is x, 2n + 1 is y of node n. Reference geometry
-(shape-function gradients and weights times Jacobians) is precomputed once;
-each Newton iteration only refills the CSR values through a stored
-COO-to-CSR map. Total Lagrangian, plane strain, internal units.
+The dimension d is the mesh's (its element's): quadrilaterals in plane strain (d = 2) or hexahedra (d = 3), with
+the same code. DOFs are node-major: dof d n + i is component i of node n. Reference geometry (shape-function
+gradients and weights times Jacobians) is precomputed once; each Newton iteration only refills the CSR values
+through a stored COO-to-CSR map. Total Lagrangian, internal units.
 """
 
 from __future__ import annotations
@@ -15,15 +15,20 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..laws import material
-from .element import QUADS
+from .element import CELLS
 from .mesh import Mesh
 
-__all__ = ["cell_dofs", "SparsePattern", "Dirichlet", "BulkForm", "rigid_body_modes"]
+__all__ = ["cell_dofs", "node_dofs", "SparsePattern", "Dirichlet", "BulkForm", "rigid_body_modes"]
 
 
-def cell_dofs(cells: np.ndarray) -> np.ndarray:
-    """(n_cells, 2 n_per_cell) DOF ids in node-major order (x, y of each node)."""
-    return np.stack([2 * cells, 2 * cells + 1], axis=-1).reshape(len(cells), -1)
+def cell_dofs(cells: np.ndarray, dim: int = 2) -> np.ndarray:
+    """(n_cells, dim n_per_cell) DOF ids in node-major order (x, y (, z) of each node)."""
+    return np.stack([dim * cells + i for i in range(dim)], axis=-1).reshape(len(cells), -1)
+
+
+def node_dofs(nodes: np.ndarray, dim: int = 2) -> np.ndarray:
+    """The DOF ids of the given nodes, every component, sorted."""
+    return np.sort(np.concatenate([dim * nodes + i for i in range(dim)]))
 
 
 @dataclass(frozen=True)
@@ -86,8 +91,13 @@ class Dirichlet:
     diag: np.ndarray  # CSR data positions of constrained diagonals
 
     @classmethod
-    def on_nodes(cls, nodes: np.ndarray, pattern: SparsePattern) -> Dirichlet:
-        dofs = np.sort(np.concatenate([2 * nodes, 2 * nodes + 1]))
+    def on_nodes(cls, nodes: np.ndarray, pattern: SparsePattern, dim: int = 2) -> Dirichlet:
+        """Every component of ``nodes`` fixed."""
+        return cls.on_dofs(node_dofs(nodes, dim), pattern)
+
+    @classmethod
+    def on_dofs(cls, dofs: np.ndarray, pattern: SparsePattern) -> Dirichlet:
+        """The given DOFs fixed (sorted, unique)."""
         fixed = np.zeros(pattern.n, dtype=bool)
         fixed[dofs] = True
         row_of = np.repeat(np.arange(pattern.n), np.diff(pattern.indptr))
@@ -108,31 +118,32 @@ class BulkForm:
     OUTER_BUDGET_BYTES = 1 << 30  # static dN dN w products kept up to 1 GiB
 
     def __init__(self, mesh: Mesh, lam: float, mu: float, quadrature: int | None = None):
-        ref = QUADS[mesh.element]
+        ref = CELLS[mesh.element]
+        self.dim = d = ref.dim
         points, weights = ref.gauss(quadrature)
-        _, dN_dxi = ref.shape(points)  # (q, a, 2)
-        X = mesh.nodes[mesh.cells]  # (e, a, 2)
-        Jac = np.einsum("eai,qak->eqik", X, dN_dxi)  # dX_i/dxi_k, (e, q, 2, 2)
-        detJ = material.det2(Jac)
+        _, dN_dxi = ref.shape(points)  # (q, a, d)
+        X = mesh.nodes[mesh.cells]  # (e, a, d)
+        Jac = np.einsum("eai,qak->eqik", X, dN_dxi)  # dX_i/dxi_k, (e, q, d, d)
+        detJ = material.det(Jac)
         if np.any(detJ <= 0.0):
             raise ValueError("mesh has inverted or degenerate elements")
-        inv = material.inv_transpose2(Jac, detJ)  # (dX/dxi)^{-T}
-        self.dN = np.einsum("qak,eqik->eqai", dN_dxi, inv)  # dN_a/dX_i, (e, q, a, 2)
+        inv = material.inv_transpose(Jac, detJ)  # (dX/dxi)^{-T}
+        self.dN = np.einsum("qak,eqik->eqai", dN_dxi, inv)  # dN_a/dX_i, (e, q, a, d)
         self.wdetJ = detJ * weights  # (e, q)
         self.dNw = self.dN * self.wdetJ[..., None, None]
-        # the same, one (a, q*2) matrix per cell: F and f_int as one small matmul per cell, not per point
+        # the same, one (a, q*d) matrix per cell: F and f_int as one small matmul per cell, not per point
         e, q, a, _ = self.dN.shape
-        self._dN_cell = np.ascontiguousarray(self.dN.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
-        self._dNw_cell = np.ascontiguousarray(self.dNw.transpose(0, 2, 1, 3).reshape(e, a, q * 2))
+        self._dN_cell = np.ascontiguousarray(self.dN.transpose(0, 2, 1, 3).reshape(e, a, q * d))
+        self._dNw_cell = np.ascontiguousarray(self.dNw.transpose(0, 2, 1, 3).reshape(e, a, q * d))
         self._outer_cache = None
         self._F_cache: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh, self.lam, self.mu = mesh, lam, mu
-        self.dofs = cell_dofs(mesh.cells)
+        self.dofs = cell_dofs(mesh.cells, d)
         self.n_dofs = mesh.n_dofs
         self.pattern = SparsePattern.from_blocks(self.dofs, self.n_dofs)
 
     def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
-        """F = I + grad u at every quadrature point, (e, q, 2, 2), read-only.
+        """F = I + grad u at every quadrature point, (e, q, d, d), read-only.
 
         The last result is kept: Newton's line search asks for det F (admissibility)
         and the residual at the same trial state, then the tangent at the accepted one.
@@ -140,11 +151,12 @@ class BulkForm:
         cached = self._F_cache
         if cached is not None and np.array_equal(cached[0], u):
             return cached[1]
-        ue = u.reshape(-1, 2)[self.mesh.cells]  # (e, a, 2)
-        # F_ij = delta_ij + sum_a u_ai dN_aj: (e, 2, a) @ (e, a, q*2), then (e, q, i, j)
+        d = self.dim
+        ue = u.reshape(-1, d)[self.mesh.cells]  # (e, a, d)
+        # F_ij = delta_ij + sum_a u_ai dN_aj: (e, d, a) @ (e, a, q*d), then (e, q, i, j)
         e, q = self.dN.shape[:2]
-        grad_u = (np.swapaxes(ue, 1, 2) @ self._dN_cell).reshape(e, 2, q, 2).transpose(0, 2, 1, 3)
-        F = np.add(grad_u, np.eye(2), out=np.empty((e, q, 2, 2)))
+        grad_u = (np.swapaxes(ue, 1, 2) @ self._dN_cell).reshape(e, d, q, d).transpose(0, 2, 1, 3)
+        F = np.add(grad_u, np.eye(d), out=np.empty((e, q, d, d)))
         F.flags.writeable = False
         self._F_cache = (np.array(u, copy=True), F)
         return F
@@ -153,9 +165,9 @@ class BulkForm:
         return np.bincount(self.dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
 
     def internal_force(self, P: np.ndarray) -> np.ndarray:
-        # f_ai = sum_q sum_J dN_aJ w P_iJ: (e, a, q*2) @ (e, q*2, 2) with P_iJ ordered (q, J), i
-        e, q = P.shape[:2]
-        return self._gather(self._dNw_cell @ np.swapaxes(P, -1, -2).reshape(e, q * 2, 2))
+        # f_ai = sum_q sum_J dN_aJ w P_iJ: (e, a, q*d) @ (e, q*d, d) with P_iJ ordered (q, J), i
+        e, q, d = P.shape[:3]
+        return self._gather(self._dNw_cell @ np.swapaxes(P, -1, -2).reshape(e, q * d, d))
 
     def residual(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
         """Internal force vector f_int (E L0), node-major (``multiplier``: unused here, see fem.mixed)."""
@@ -163,12 +175,12 @@ class BulkForm:
 
     @property
     def _outer(self) -> np.ndarray | None:
-        """Static products dN_aJ dN_bL w, (e, a*b, q*4), or None above the memory budget."""
+        """Static products dN_aJ dN_bL w, (e, a*b, q*d*d), or None above the memory budget."""
         if self._outer_cache is None:
-            e, q, a, _ = self.dN.shape
-            if e * a * a * q * 4 * 8 <= self.OUTER_BUDGET_BYTES:
+            e, q, a, d = self.dN.shape
+            if e * a * a * q * d * d * 8 <= self.OUTER_BUDGET_BYTES:
                 G = np.einsum("eqaJ,eqbL->eabqJL", self.dNw, self.dN)
-                self._outer_cache = G.reshape(e, a * a, q * 4)
+                self._outer_cache = G.reshape(e, a * a, q * d * d)
             else:
                 self._outer_cache = False
         return self._outer_cache if self._outer_cache is not False else None
@@ -179,17 +191,18 @@ class BulkForm:
         outer = self._outer
         if outer is None:
             return None
-        e, q = A.shape[:2]
-        return outer @ A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * 4, 4)
+        e, q, d = A.shape[:3]
+        return outer @ A.transpose(0, 1, 3, 5, 2, 4).reshape(e, q * d * d, d * d)
 
     @cached_property
     def _slot_abik(self) -> np.ndarray:
         """The pattern's slot map for element tangents in (a, b, i, k) order."""
         e, a = self.mesh.cells.shape
-        return self.pattern.slot.reshape(e, a, 2, a, 2).transpose(0, 1, 3, 2, 4).ravel()
+        d = self.dim
+        return self.pattern.slot.reshape(e, a, d, a, d).transpose(0, 1, 3, 2, 4).ravel()
 
     def tangent_data(self, A: np.ndarray) -> np.ndarray:
-        """CSR data of the tangent for the fixed pattern from the material tangent A (e, q, 2, 2, 2, 2); the same
+        """CSR data of the tangent for the fixed pattern from the material tangent A (e, q, d, d, d, d); the same
         numbers as ``pattern.values(element_tangents(A))`` (each CSR entry sums one term per element, in element order
         either way), without reordering the element blocks in memory."""
         K = self._tangents_abik(A)
@@ -198,16 +211,16 @@ class BulkForm:
         return self.pattern.values(K, self._slot_abik)
 
     def element_tangents(self, A: np.ndarray) -> np.ndarray:
-        """K_e[(a,i), (b,k)] = sum_q dN_aJ A_iJkL dN_bL w, (e, 2a, 2a)."""
-        e, q, a, _ = self.dN.shape
+        """K_e[(a,i), (b,k)] = sum_q dN_aJ A_iJkL dN_bL w, (e, d a, d a)."""
+        e, q, a, d = self.dN.shape
         K = self._tangents_abik(A)
         if K is not None:
-            K = K.reshape(e, a, a, 2, 2).transpose(0, 1, 3, 2, 4)
+            K = K.reshape(e, a, a, d, d).transpose(0, 1, 3, 2, 4)
         else:  # two batched matmuls per quadrature point, no large static array
-            At = A.transpose(0, 1, 3, 2, 4, 5).reshape(e, q, 2, 8)  # J, (i, k, L)
-            S = (self.dNw @ At).reshape(e, q, a * 4, 2)  # (a, i, k), L
-            K = (S @ np.swapaxes(self.dN, -1, -2)).sum(axis=1).reshape(e, a, 2, 2, a).transpose(0, 1, 2, 4, 3)
-        return K.reshape(e, 2 * a, 2 * a)
+            At = A.transpose(0, 1, 3, 2, 4, 5).reshape(e, q, d, d**3)  # J, (i, k, L)
+            S = (self.dNw @ At).reshape(e, q, a * d * d, d)  # (a, i, k), L
+            K = (S @ np.swapaxes(self.dN, -1, -2)).sum(axis=1).reshape(e, a, d, d, a).transpose(0, 1, 2, 4, 3)
+        return K.reshape(e, d * a, d * a)
 
     def residual_and_tangent_data(self, u: np.ndarray, multiplier: np.ndarray | None = None
                                   ) -> tuple[np.ndarray, np.ndarray]:
@@ -221,7 +234,7 @@ class BulkForm:
         return f, self.pattern.matrix(data)
 
     def strain_energy(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> float:
-        """Total strain energy per unit width (E L0^2)."""
+        """Total strain energy (E L0^2 per unit width in plane strain, E L0^3 in 3D)."""
         W = material.strain_energy_density(self.deformation_gradient(u), self.lam, self.mu)
         return float(np.sum(W * self.wdetJ))
 
@@ -232,20 +245,29 @@ class BulkForm:
 
     def min_jacobian(self, u: np.ndarray) -> float:
         """Smallest det F over the quadrature points (<= 0 means an inverted element)."""
-        return float(material.det2(self.deformation_gradient(u)).min())
+        return float(material.det(self.deformation_gradient(u)).min())
 
     def cell_first_invariant(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
         """I1(sigma) averaged over each cell's quadrature points (E), (n_cells,)."""
         return self.cell_average(material.first_invariant(self.deformation_gradient(u), self.lam, self.mu))
 
     def cell_average(self, values: np.ndarray) -> np.ndarray:
-        """The area-weighted average over each cell of values at the quadrature points (e, q) -> (n_cells,)."""
+        """The area- (volume-) weighted average over each cell of values at the quadrature points (e, q) -> (n_cells,)."""
         return np.sum(values * self.wdetJ, axis=1) / np.sum(self.wdetJ, axis=1)
 
 
 def rigid_body_modes(nodes: np.ndarray) -> np.ndarray:
-    """The three 2D rigid-body modes (translation x, y; rotation) as (n_dofs, 3), node-major."""
-    n = len(nodes)
+    """The rigid-body modes of nodes (n, d), node-major: in 2D (2n, 3) translation x, y and the rotation; in 3D
+    (3n, 6) translations x, y, z and the rotations about x, y, z (about the nodes' centroid)."""
+    n, d = nodes.shape
+    if d == 3:
+        c = nodes - nodes.mean(axis=0)
+        B = np.zeros((n, 3, 6))
+        B[:, [0, 1, 2], [0, 1, 2]] = 1.0
+        for k, (i, j) in enumerate([(1, 2), (2, 0), (0, 1)]):  # rotation about axis k: (e_k x c)
+            B[:, i, 3 + k] = -c[:, j]
+            B[:, j, 3 + k] = c[:, i]
+        return B.reshape(3 * n, 6)
     B = np.zeros((2 * n, 3))
     B[0::2, 0] = 1.0
     B[1::2, 1] = 1.0

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ReferenceCell", "QUADS", "HEXES", "gauss_legendre", "gauss_quad", "gauss_hex",
+__all__ = ["ReferenceCell", "QUADS", "HEXES", "CELLS", "gauss_legendre", "gauss_quad", "gauss_hex",
            "line_shape"]
 
 # Local coordinates of the nodes.
@@ -107,3 +107,5 @@ _H1_NODES = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
 
 
 HEXES = {"H1": ReferenceCell("H1", 1, _H1_NODES)}
+
+CELLS = {**QUADS, **HEXES}  # every reference cell by name: a mesh's element names its cell and so its dimension

@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .element import QUADS
+from ..laws import material
+from .element import CELLS
 
 __all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "cell_and_node_counts", "band_limit", "BandTooWide", "rectangle_mesh",
            "circular_segment_area", "H0_AT_SIZE_1"]
@@ -36,12 +37,15 @@ H0_AT_SIZE_1 = 0.0045
 
 @dataclass(frozen=True)
 class Mesh:
-    """An unstructured quadrilateral mesh with named boundary sets.
+    """An unstructured quadrilateral (2D) or hexahedral (3D) mesh with named boundary sets; the vertical axis is
+    the last (y in 2D, z in 3D).
 
-    ``nodes`` (n_nodes, 2) reference coordinates (L0); ``cells`` (n_cells,
-    n_per_cell) node ids in :mod:`capslide.element` order; ``base`` node ids
-    on y = 0; ``surface_segments`` (n_segments, order + 1) node ids of the
-    top-surface edges in line order, left to right, sorted by reference x.
+    ``nodes`` (n_nodes, d) reference coordinates (L0); ``cells`` (n_cells,
+    n_per_cell) node ids in :mod:`capslide.fem.element` order; ``base`` node ids
+    of the clamped base; ``surface_segments`` the top surface's facets: in 2D (n_segments, order + 1) node ids of
+    the edges in line order, left to right, sorted by reference x; in 3D (n_faces, 4) node ids of the
+    quadrilateral faces, counter-clockwise seen from outside; ``symmetry`` node ids on the plane of symmetry y = 0
+    of a 3D half model (none in 2D).
     """
 
     element: str
@@ -50,6 +54,7 @@ class Mesh:
     base: np.ndarray
     surface_segments: np.ndarray
     info: dict = field(default_factory=dict, compare=False)
+    symmetry: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def n_nodes(self) -> int:
@@ -60,8 +65,12 @@ class Mesh:
         return len(self.cells)
 
     @property
+    def dim(self) -> int:
+        return self.nodes.shape[1]
+
+    @property
     def n_dofs(self) -> int:
-        return 2 * len(self.nodes)
+        return self.dim * len(self.nodes)
 
     @property
     def surface_nodes(self) -> np.ndarray:
@@ -71,16 +80,16 @@ class Mesh:
 
     def jacobians(self, points=None) -> np.ndarray:
         """det(dX/dxi) at the Gauss points (or given local points): (n_cells, n_points)."""
-        ref = QUADS[self.element]
+        ref = CELLS[self.element]
         if points is None:
             points, _ = ref.gauss()
         _, dN = ref.shape(points)
-        X = self.nodes[self.cells]  # (e, a, 2)
-        J = np.einsum("eai,pak->epik", X, dN)  # (e, p, 2, 2)
-        return J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
+        X = self.nodes[self.cells]  # (e, a, d)
+        return material.det(np.einsum("eai,pak->epik", X, dN))  # (e, p)
 
     def area(self) -> float:
-        ref = QUADS[self.element]
+        """The reference area (2D) or volume (3D) of the mesh (L0^2 or L0^3)."""
+        ref = CELLS[self.element]
         pts, w = ref.gauss(ref.order + 2)
         return float(np.sum(self.jacobians(pts) * w))
 

@@ -1,0 +1,197 @@
+"""Hexahedral meshes: a box, and the graded half model of a spherical cap.
+
+The spherical cap of radius R and height H stands on the base z = 0 (a disk of radius b = sqrt(H (2R - H))); its
+apex is (0, 0, H). The half model keeps y >= 0: the plane y = 0 through the sliding direction x is a plane of
+symmetry. The mesh is the 2D cap mesh's meridional Coons map (:mod:`capslide.fem.mesh`) turned about the z axis,
+without its 3:1 transitions:
+
+- a logical half disk of radius U (U = the arc length from the apex to the logical corner on the sphere): a core
+  rectangle [-c, c] x [0, c] of square cells of size h0, and rings around it whose radii grow geometrically with
+  4 n cells each (n = c / h0), so that the ring cells stay square; the rings blend from the rectangle to circles
+  (an O-grid, no cell degenerates on the axis);
+- outside the band the rings widen by ``ring_growth`` per ring (never narrower than square);
+- layers from the top down: in the band the first is h0 thick, each ``layer_growth`` times the one above, at
+  most ``max_size_over_H`` H, which sets the number of layers; every column has that many, in a geometric series
+  that closes on the base, its top layer h0 thick in the band and as thick as the rings are wide beyond it;
+- a logical point P of the half disk at height v maps to (r P / |P|, z), where (r, z) is the 2D cap's Coons map at
+  (|P|, v): the logical top (|P| <= U, v = H) is the sphere up to the polar angle phi1, the logical side (|P| = U) is
+  the sphere from phi1 down to the base.
+
+Cells inside the band (reference radius <= ``band_radius`` on the top) are h0 wide or less. The cell and node
+counts follow from the plan alone (:func:`sphere_cap_counts`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .mesh import CapMeshSpec, Mesh, _arc_angles, _coons_map
+
+__all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "spherical_cap_volume"]
+
+
+@dataclass(frozen=True)
+class SphereCapSpec:
+    """Inputs of :func:`sphere_cap_mesh` (lengths in L0)."""
+
+    R: float
+    H: float
+    h0: float  # cell size on the top surface inside the band
+    band_radius: float  # radius of the refined contact band (reference, on the top surface)
+    layer_growth: float = 1.25  # thickness ratio of a layer to the one above, in the band (it sets the layer count)
+    ring_growth: float = 1.15  # width ratio of a ring to the one inside it, outside the band
+    max_size_over_H: float = 0.25  # largest layer thickness / H
+
+    def meridian(self) -> CapMeshSpec:
+        """The 2D cap whose meridional map this mesh turns about the axis."""
+        return CapMeshSpec(R=self.R, H=self.H, h0=self.h0, band_half_width=self.band_radius, element="Q1",
+                           max_size_over_H=self.max_size_over_H)
+
+
+def spherical_cap_volume(R: float, H: float) -> float:
+    """The volume of a spherical cap of radius R and height H (L0^3): pi H^2 (3 R - H) / 3."""
+    return math.pi * H**2 * (3 * R - H) / 3
+
+
+def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np.ndarray]:
+    """n (core cells per half width) and the ring radii (the core's "radius" c first, U last): steps of gamma rho
+    (square ring cells) inside the band, then steps growing by ``growth`` per ring, never below gamma rho."""
+    c = band / 1.5  # ring cells are h0 * pi / 4 wide at c and reach h0 at 4 c / pi: <= 1.2 h0 inside the band
+    n = max(2, math.ceil(c / h0))
+    c = n * h0
+    if 1.5 * c >= U:
+        raise ValueError(f"contact band radius {band:g} L0 leaves no room for the rings (U = {U:.3g} L0)")
+    gamma = math.pi / (4 * n)  # a ring step of gamma rho keeps the ring cells square
+    radii, step = [c], 0.0
+    while radii[-1] < U:
+        rho = radii[-1]
+        step = gamma * rho if rho < band else max(gamma * rho, growth * step)
+        radii.append(rho + step)
+    if len(radii) > 2 and U - radii[-2] < 0.5 * step:  # no sliver: the last ring moves out to U
+        radii.pop()
+    radii[-1] = U
+    return n, np.array(radii)
+
+
+def half_disk(U: float, h0: float, band: float, growth: float = 1.15) -> tuple[np.ndarray, np.ndarray]:
+    """Quadrilateral mesh of the half disk {|P| <= U, P_y >= 0}: points (m, 2) and cells (k, 4), counter-clockwise
+    (:func:`_ring_plan` for the rings)."""
+    n, radii = _ring_plan(U, h0, band, growth)
+    c = radii[0]
+    xs = np.linspace(-c, c, 2 * n + 1)
+    ys = np.linspace(0.0, c, n + 1)
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    points = [np.column_stack([X.ravel(), Y.ravel()])]
+    core = np.arange((2 * n + 1) * (n + 1)).reshape(2 * n + 1, n + 1)
+    cells = [np.column_stack([core[:-1, :-1].ravel(), core[1:, :-1].ravel(), core[1:, 1:].ravel(),
+                              core[:-1, 1:].ravel()])]
+    # the core's outer boundary, counter-clockwise from (c, 0) to (-c, 0): 4 n + 1 points
+    chain = np.concatenate([core[-1, :], core[::-1, -1][1:], core[0, ::-1][1:]])
+    square = points[0][chain] / c  # on the unit rectangle
+    theta = np.linspace(0.0, math.pi, 4 * n + 1)
+    circle = np.column_stack([np.cos(theta), np.sin(theta)])
+    previous, start = chain, len(points[0])
+    blend = min(1.0, math.log(U / c))
+    for rho in radii[1:]:
+        beta = min(1.0, math.log(rho / c) / blend)  # rectangle to circle over a factor e in radius (or up to U)
+        points.append(rho * ((1.0 - beta) * square + beta * circle))
+        ring = start + np.arange(4 * n + 1)
+        cells.append(np.column_stack([previous[1:], previous[:-1], ring[:-1], ring[1:]]))
+        previous, start = ring, start + 4 * n + 1
+    return np.vstack(points), np.vstack(cells)
+
+
+def _layer_count(H: float, h0: float, growth: float, max_size: float) -> int:
+    """Layers of a column whose top layer is h0 thick, each layer ``growth`` times the one above, at most max_size."""
+    layers, v, t = 0, H, h0
+    while v > 1e-12:
+        v -= t if v - t >= 0.75 * t else v  # the last layer closes on the base, never a sliver
+        layers += 1
+        t = min(t * growth, max_size)
+    return layers
+
+
+def _depths(top: np.ndarray, H: float, layers: int) -> np.ndarray:
+    """Depths below the top of the layers' interfaces (layers + 1, m) for columns whose top layer is ``top`` (m,)
+    thick: a geometric series per column that ends on the base (ratio q solving top = H (q - 1) / (q^K - 1))."""
+    top = np.minimum(top, H / layers)
+    lo, hi = np.full(top.shape, 1e-9), np.full(top.shape, 1.0 + 1e-9)
+    while np.any(H * (hi - 1) / (hi**layers - 1) > top):  # bracket q: the top layer thins as q grows
+        hi = np.where(H * (hi - 1) / (hi**layers - 1) > top, 2 * hi, hi)
+    for _ in range(100):  # bisection, vectorized over the columns
+        q = 0.5 * (lo + hi)
+        thick = H * (q - 1) / np.where(np.abs(q - 1) < 1e-12, np.nan, q**layers - 1)
+        thick = np.where(np.isnan(thick), H / layers, thick)
+        lo, hi = np.where(thick > top, q, lo), np.where(thick > top, hi, q)
+    q = 0.5 * (lo + hi)
+    k = np.arange(layers + 1)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = H * (q**k - 1) / (q**layers - 1)
+    d = np.where(np.abs(q - 1) < 1e-9, H * k / layers, d)
+    d[-1] = H
+    return d
+
+
+def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
+    """Cells and nodes of :func:`sphere_cap_mesh` for ``spec``, from the plan alone."""
+    _, phi1 = _arc_angles(spec.meridian())
+    n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth)
+    quads = 2 * n * n + 4 * n * (len(radii) - 1)
+    points = (2 * n + 1) * (n + 1) + (4 * n + 1) * (len(radii) - 1)
+    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, spec.max_size_over_H * spec.H)
+    return quads * layers, points * (layers + 1)
+
+
+def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
+    """The graded trilinear (H1) half model of the spherical cap (see the module docstring).
+
+    ``base``: the nodes on z = 0; ``symmetry``: the nodes on y = 0; ``surface_segments``: the logical top's faces
+    (the contact facets), counter-clockwise seen from above.
+    """
+    meridian = spec.meridian()
+    phi0, phi1 = _arc_angles(meridian)
+    U = spec.R * phi1
+    disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth)
+    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, spec.max_size_over_H * spec.H)
+    s = np.linalg.norm(disk, axis=1)
+    # the top layer: h0 in the band, beyond it as thick as the rings are wide there (near-cubic surface cells)
+    _, radii = _ring_plan(U, spec.h0, spec.band_radius, spec.ring_growth)
+    widths = np.diff(radii)
+    top = np.maximum(spec.h0, np.interp(s, radii[:-1], widths, left=spec.h0) * (s > spec.band_radius))
+    v = (spec.H - _depths(top, spec.H, layers)).ravel()  # level k of point i at k * m + i
+    m = len(disk)
+    rz = _coons_map(np.column_stack([np.tile(s, layers + 1), v]), meridian, U, phi0, phi1)
+    scale = np.divide(rz[:, 0], np.tile(s, layers + 1), out=np.zeros(len(rz)), where=np.tile(s, layers + 1) > 0)
+    nodes = np.column_stack([np.tile(disk, (layers + 1, 1)) * scale[:, None], rz[:, 1]])
+    # layer k lies between level k (upper) and level k + 1 (lower): VTK order, the lower face first
+    cells = np.vstack([np.hstack([quads + (k + 1) * m, quads + k * m]) for k in range(layers)])
+    base = np.arange(layers * m, (layers + 1) * m)
+    symmetry = np.flatnonzero(np.tile(disk[:, 1], layers + 1) == 0.0)
+    info = {"h0": spec.h0, "band_radius": spec.band_radius, "U": U, "phi0": phi0, "phi1": phi1, "layers": layers}
+    return Mesh("H1", nodes, cells, base, quads.copy(), info, symmetry=symmetry)
+
+
+def box_mesh(nx: int, ny: int, nz: int, size=(1.0, 1.0, 1.0), distortion: float = 0.0, seed: int = 0) -> Mesh:
+    """Structured H1 mesh of [0, Lx] x [0, Ly] x [0, Lz]; interior nodes moved randomly by up to ``distortion`` of
+    the cell size. ``base``: z = 0; ``symmetry``: y = 0; ``surface_segments``: the faces on z = Lz."""
+    axes = [np.linspace(0.0, L, k + 1) for L, k in zip(size, (nx, ny, nz))]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    nodes = grid.reshape(-1, 3)
+    idx = np.arange(len(nodes)).reshape(nx + 1, ny + 1, nz + 1)
+    if distortion:
+        inner = idx[1:-1, 1:-1, 1:-1].ravel()
+        h = np.array(size) / np.array([nx, ny, nz])
+        nodes[inner] += distortion * h * np.random.default_rng(seed).uniform(-1, 1, size=(len(inner), 3))
+
+    def corner(i, j, k):
+        return idx[i: nx + i, j: ny + j, k: nz + k].ravel()
+
+    cells = np.column_stack([corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0),
+                             corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)])
+    top = idx[:, :, -1]
+    faces = np.column_stack([top[:-1, :-1].ravel(), top[1:, :-1].ravel(), top[1:, 1:].ravel(), top[:-1, 1:].ravel()])
+    return Mesh("H1", nodes, cells, idx[:, :, 0].ravel(), faces, {"n": (nx, ny, nz)},
+                symmetry=idx[:, 0, :].ravel())

@@ -1,0 +1,95 @@
+"""The FE core in 3D (issue 39): the same BulkForm on hexahedra. Exact tangent against finite differences, the six
+rigid-body modes in the tangent's null space at rest, the patch test (a homogeneous deformation is exact on a
+distorted mesh), the energy of a homogeneous stretch, and the graded half model of the spherical cap."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse.linalg as spla
+
+from capslide.fem.assembly import BulkForm, Dirichlet, node_dofs, rigid_body_modes
+from capslide.fem.hex_mesh import SphereCapSpec, box_mesh, sphere_cap_counts, sphere_cap_mesh, spherical_cap_volume
+from capslide.laws import material
+
+LAM, MU = 0.4 / (1.4 * 0.2), 1.0 / 2.8  # E = 1, nu = 0.4 (3D Lame constants)
+
+
+@pytest.fixture
+def distorted():
+    return box_mesh(3, 2, 2, (1.5, 1.0, 1.0), distortion=0.3, seed=5)
+
+
+def test_3d_tangent_is_the_residual_derivative(distorted):
+    form = BulkForm(distorted, LAM, MU)
+    rng = np.random.default_rng(0)
+    u = 0.05 * rng.standard_normal(distorted.n_dofs)
+    f, K = form.residual_and_tangent(u)
+    du = rng.standard_normal(distorted.n_dofs)
+    h = 1e-6
+    fd = (form.residual(u + h * du) - form.residual(u - h * du)) / (2 * h)
+    np.testing.assert_allclose(K @ du, fd, rtol=1e-6, atol=1e-8 * np.abs(fd).max())
+    form2 = BulkForm(distorted, LAM, MU)
+    form2.OUTER_BUDGET_BYTES = 0  # the other element-tangent path
+    np.testing.assert_allclose(form2.residual_and_tangent(u)[1].toarray(), K.toarray(), atol=1e-12)
+    # the internal force is the energy's gradient
+    dW = (form.strain_energy(u + h * du) - form.strain_energy(u - h * du)) / (2 * h)
+    assert dW == pytest.approx(f @ du, rel=1e-6)
+
+
+def test_rigid_body_modes_span_the_null_space_at_rest(distorted):
+    B = rigid_body_modes(distorted.nodes)
+    assert B.shape == (distorted.n_dofs, 6)
+    assert np.linalg.matrix_rank(B) == 6
+    _, K = BulkForm(distorted, LAM, MU).residual_and_tangent(np.zeros(distorted.n_dofs))
+    np.testing.assert_allclose(K @ B, 0.0, atol=1e-10)
+    assert np.linalg.matrix_rank(K.toarray(), tol=1e-8) == distorted.n_dofs - 6
+
+
+def test_patch_test_homogeneous_deformation_is_exact(distorted):
+    """Boundary nodes moved by (F - I) X: the interior nodes follow exactly, the energy is W(F) times the volume."""
+    F = np.array([[1.1, 0.05, 0.0], [0.02, 0.95, 0.03], [0.0, -0.04, 1.05]])
+    X = distorted.nodes
+    exact = (X @ (F - np.eye(3)).T).ravel()
+    inner = np.flatnonzero(np.all((X > 1e-9) & (X < np.array([1.5, 1.0, 1.0]) - 1e-9), axis=1))
+    boundary = np.setdiff1d(np.arange(len(X)), inner)
+    form = BulkForm(distorted, LAM, MU)
+    bc = Dirichlet.on_nodes(boundary, form.pattern, dim=3)
+    np.testing.assert_array_equal(bc.dofs, node_dofs(boundary, 3))
+    u = np.where(np.isin(np.arange(distorted.n_dofs), bc.dofs), exact, 0.0)
+    for _ in range(8):  # Newton on the interior nodes
+        r, data = form.residual_and_tangent_data(u)
+        bc.apply(data, r)
+        u -= spla.spsolve(form.pattern.matrix(data).tocsc(), r)
+    np.testing.assert_allclose(u, exact, atol=1e-10)
+    volume = distorted.area()
+    assert volume == pytest.approx(1.5)
+    assert form.strain_energy(u) == pytest.approx(material.strain_energy_density(F[None], LAM, MU)[0] * volume)
+
+
+@pytest.mark.parametrize("h0", [0.6, 0.3])
+def test_sphere_cap_mesh_is_the_half_cap(h0):
+    spec = SphereCapSpec(R=47.1, H=10.0, h0=h0, band_radius=9.0)
+    mesh = sphere_cap_mesh(spec)
+    assert sphere_cap_counts(spec) == (mesh.n_cells, mesh.n_nodes)  # the plan counts without meshing
+    assert mesh.dim == 3 and mesh.n_dofs == 3 * mesh.n_nodes
+    corners = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)], dtype=float)
+    assert mesh.jacobians(corners).min() > 0.0  # no inverted cell, at any corner
+    assert 2 * mesh.area() == pytest.approx(spherical_cap_volume(47.1, 10.0), rel=5e-3)
+    X = mesh.nodes
+    np.testing.assert_allclose(X[mesh.base, 2], 0.0)
+    np.testing.assert_allclose(X[mesh.symmetry, 1], 0.0)
+    assert np.all(X[:, 1] >= 0.0)
+    assert len(mesh.symmetry) == np.sum(X[:, 1] == 0.0)
+    top = np.unique(mesh.surface_segments)
+    np.testing.assert_allclose(np.linalg.norm(X[top] - [0.0, 0.0, 10.0 - 47.1], axis=1), 47.1, rtol=1e-12)
+    # the facets face up (counter-clockwise from above) and are at most 1.4 h0 wide in the band
+    P = X[mesh.surface_segments]
+    normal = np.cross(P[:, 1] - P[:, 0], P[:, 3] - P[:, 0])
+    assert np.all(normal[:, 2] > 0.0)
+    in_band = np.linalg.norm(P.mean(axis=1)[:, :2], axis=1) < 9.0
+    edges = np.linalg.norm(np.roll(P, -1, axis=1) - P, axis=2).max(axis=1)
+    assert edges[in_band].max() <= 1.4 * h0
+    assert edges[in_band].min() >= 0.5 * h0
+    assert mesh.nodes[:, 2].max() == pytest.approx(10.0)
+    assert math.isclose(mesh.info["U"], 47.1 * mesh.info["phi1"])
