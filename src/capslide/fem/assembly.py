@@ -70,11 +70,9 @@ class SparsePattern:
 
     def positions(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
         """CSR data positions of given (row, col) pairs (all must be in the pattern)."""
-        out = np.empty(len(rows), dtype=np.int64)
-        for k, (r, c) in enumerate(zip(rows, cols)):
-            seg = self.indices[self.indptr[r] : self.indptr[r + 1]]
-            out[k] = self.indptr[r] + np.searchsorted(seg, c)
-        return out
+        # the pattern's keys row * n + col are sorted (rows in order, columns sorted within a row)
+        keys = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(self.indptr)) * self.n + self.indices
+        return np.searchsorted(keys, np.asarray(rows, dtype=np.int64) * self.n + np.asarray(cols, dtype=np.int64))
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,7 @@ from ..laws import contact
 from ..laws.friction import FrictionLaw, ReturnMapSettings
 from ..params import Adhesion
 from ..states import SlipState
-from .element import gauss_legendre, line_shape
+from .element import QUADS, gauss_legendre, gauss_quad, line_shape
 from .mesh import Mesh
 
 __all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization"]
@@ -46,21 +46,28 @@ __all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization"]
 
 @dataclass(frozen=True)
 class SurfaceQuadrature:
-    """Gauss points on the top-surface line elements, ordered by reference x."""
+    """Gauss points on the top-surface facets: line elements in 2D, ordered by reference x; bilinear quadrilateral
+    faces in 3D (an n_gauss x n_gauss rule on each)."""
 
-    segments: np.ndarray  # (s, p+1) node ids
+    segments: np.ndarray  # (s, p+1) node ids (3D: (s, 4))
     N: np.ndarray  # (g, p+1) shape functions at the Gauss points
-    dN: np.ndarray  # (g, p+1) d/ds
-    weight: np.ndarray  # (s, g) Gauss weight times reference length element |dX/ds|
-    X: np.ndarray  # (s, g, 2) reference positions
-    X_nodes: np.ndarray  # (s, p+1, 2) reference positions of the segment nodes
+    dN: np.ndarray  # (g, p+1) d/ds (3D: (g, 4, 2), d/dxi and d/deta)
+    weight: np.ndarray  # (s, g) Gauss weight times the reference length (3D: area) element
+    X: np.ndarray  # (s, g, d) reference positions
+    X_nodes: np.ndarray  # (s, p+1, d) reference positions of the segment nodes
 
     @classmethod
     def on(cls, mesh: Mesh, n_gauss: int) -> SurfaceQuadrature:
         seg = mesh.surface_segments
+        Xn = mesh.nodes[seg]  # (s, a, d)
+        if mesh.dim == 3:
+            points, w = gauss_quad(n_gauss)
+            N, dN = QUADS["Q1"].shape(points)
+            dX = np.einsum("gak,sai->sgik", dN, Xn)
+            return cls(seg, N, dN, w * np.linalg.norm(np.cross(dX[..., 0], dX[..., 1]), axis=-1),
+                       np.einsum("ga,sai->sgi", N, Xn), Xn)
         s, w = gauss_legendre(n_gauss)
         N, dN = line_shape(seg.shape[1] - 1, s)
-        Xn = mesh.nodes[seg]  # (s, a, 2)
         X = np.einsum("ga,sai->sgi", N, Xn)
         dX = np.einsum("ga,sai->sgi", dN, Xn)
         return cls(seg, N, dN, w * np.linalg.norm(dX, axis=-1), X, Xn)
@@ -69,10 +76,15 @@ class SurfaceQuadrature:
     def n_points(self) -> int:
         return self.weight.size
 
+    @property
+    def dim(self) -> int:
+        return self.X.shape[-1]
+
     def current(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Current positions (s, g, 2) and tangents dx/ds (s, g, 2)."""
-        xn = self.X_nodes + u.reshape(-1, 2)[self.segments]
-        return np.einsum("ga,sai->sgi", self.N, xn), np.einsum("ga,sai->sgi", self.dN, xn)
+        """Current positions (s, g, d) and tangents: dx/ds (s, g, 2) in 2D, (dx/dxi, dx/deta) (s, g, 3, 2) in 3D."""
+        xn = self.X_nodes + u.reshape(-1, self.dim)[self.segments]
+        tangents = "gak,sai->sgik" if self.dN.ndim == 3 else "ga,sai->sgi"
+        return np.einsum("ga,sai->sgi", self.N, xn), np.einsum(tangents, self.dN, xn)
 
 
 @dataclass
@@ -128,10 +140,12 @@ class _Points:
 
 
 class SurfaceContact:
-    """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h.
+    """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h (z = h in 3D:
+    the gap is measured along the last axis).
 
     ``law`` is the friction law (None: frictionless) and ``return_map`` its penalty and slip weakening; friction
-    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1.
+    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. In 3D the contact is
+    frictionless with theta_k = 1 (friction and J_s on faces: issue 40).
     """
 
     def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
@@ -145,11 +159,16 @@ class SurfaceContact:
         self.quad = SurfaceQuadrature.on(mesh, n_gauss)
         self.far_gap = far_gap
         self.repulsion_only = repulsion_only
+        self.dim = d = mesh.dim
+        self.vertical = d - 1  # the axis of the gap and of the normal traction
+        if d == 3 and (law is not None or normal_per_current_area):
+            raise ValueError("3D contact is frictionless with the normal traction per reference area (issue 40)")
         seg = mesh.surface_segments
-        self.seg_dofs = np.stack([2 * seg, 2 * seg + 1], axis=-1).reshape(len(seg), -1)  # (s, 2(p+1))
+        self.seg_dofs = np.stack([d * seg + i for i in range(d)], axis=-1).reshape(len(seg), -1)  # (s, d(p+1))
         self.n_dofs = mesh.n_dofs
-        dX = np.einsum("ga,sai->sgi", self.quad.dN, self.quad.X_nodes)
-        self.ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
+        if d == 2:
+            dX = np.einsum("ga,sai->sgi", self.quad.dN, self.quad.X_nodes)
+            self.ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
 
     def friction_active(self, anchors: np.ndarray | None) -> bool:
         return anchors is not None and self.law is not None
@@ -172,9 +191,9 @@ class SurfaceContact:
         return _stretch(t, self.ref_len)
 
     def gaps(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-        """Normal gaps (s, g) and current positions (s, g, 2)."""
+        """Normal gaps (s, g) and current positions (s, g, d)."""
         x, _ = self.quad.current(u)
-        return h - x[..., 1], x
+        return h - x[..., self.vertical], x
 
     def active(self, g: np.ndarray) -> np.ndarray:
         """Segments with at least one Gauss point closer than far_gap."""
@@ -183,12 +202,13 @@ class SurfaceContact:
     def _points(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
                 slip: np.ndarray | None = None) -> _Points:
         x, t = self.quad.current(u)
-        g = h - x[..., 1]
+        g = h - x[..., self.vertical]
         act = self.active(g)
         g, x, t = g[act], x[act], t[act]
         near = g < self.far_gap
         Tn, dTn = self.traction(np.where(near, g, self.far_gap))
-        pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0), t=t, T_len=self.ref_len[act])
+        pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0), t=t,
+                      T_len=self.ref_len[act] if self.dim == 2 else None)
         friction = self.friction_active(anchors)
         J = _stretch(t, pts.T_len) if friction or self.normal_per_current_area else None
         if self.normal_per_current_area:
@@ -216,7 +236,7 @@ class SurfaceContact:
         pts = self._points(u, h, ubar, anchors, slip)
         W, N, seg = self.quad.weight[pts.act], self.quad.N, self.quad.segments[pts.act]
         f = np.zeros(self.n_dofs)
-        np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))  # T_y = -theta_k Tn
+        np.add.at(f, self.dim * seg + self.vertical, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))  # T_y = -theta_k Tn
         Ft = 0.0
         if pts.Tt is not None:
             np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
@@ -229,15 +249,15 @@ class SurfaceContact:
         act = pts.act
         W, N, dN = self.quad.weight[act], self.quad.N, self.quad.dN
         seg = self.quad.segments[act]
-        p1 = N.shape[1]
+        p1, d, v = N.shape[1], self.dim, self.vertical
         f = np.zeros(self.n_dofs)
-        np.add.at(f, 2 * seg + 1, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))
-        blocks = np.zeros((len(act), p1, 2, p1, 2))
+        np.add.at(f, d * seg + v, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))
+        blocks = np.zeros((len(act), p1, d, p1, d))
         dTn = pts.theta * pts.dTn  # theta_k Tn'
         # normal: dT_y/dy = theta_k Tn'(g) (g = h - y), so dR_ay/du_by = -int N_a N_b theta_k Tn' dA
-        blocks[:, :, 1, :, 1] = -np.einsum("ga,gb,sg,sg->sab", N, N, dTn, W)
+        blocks[:, :, v, :, v] = -np.einsum("ga,gb,sg,sg->sab", N, N, dTn, W)
         dR_dh = np.zeros(self.n_dofs)
-        np.add.at(dR_dh, 2 * seg + 1, np.einsum("ga,sg,sg->sa", N, dTn, W))  # -d(T_y)/dh = theta_k Tn'
+        np.add.at(dR_dh, d * seg + v, np.einsum("ga,sg,sg->sa", N, dTn, W))  # -d(T_y)/dh = theta_k Tn'
         dFn_du = dR_dh.copy()  # Fn = -int theta_k Tn dA: dFn/du_by = int theta_k Tn' N_b dA
         NW = N[None] * W[..., None]  # (k, g, a)
         if self.normal_per_current_area:  # theta_k = J_s: R_ay = ... + int N_a Tn J_s dA, Fn = -int Tn J_s dA
@@ -254,7 +274,7 @@ class SurfaceContact:
             blocks[:, :, 0, :, :] -= np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.dTt_dJ, pts.dJ_du())
             np.add.at(dR_dh, 2 * seg, -np.einsum("sga,sg->sa", NW, pts.dTt_dg))
         return ContactLinearization(
-            f=f, Fn=float(-np.sum(pts.Tn_ref * W)), Ft=Ft, blocks=blocks.reshape(len(act), 2 * p1, 2 * p1),
+            f=f, Fn=float(-np.sum(pts.Tn_ref * W)), Ft=Ft, blocks=blocks.reshape(len(act), d * p1, d * p1),
             active_segments=act, dR_dh=dR_dh, dFn_du=dFn_du, dFn_dh=float(-np.sum(dTn * W)),
         )
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..fem.assembly import BulkForm, Dirichlet
+from ..fem.assembly import BulkForm, Dirichlet, node_dofs
 from ..fem.interface import SurfaceContact
 from ..fem.mesh import Mesh
 from ..fem.mixed import MixedBulkForm
@@ -94,7 +94,11 @@ class CapModel:
             contact_gap=params.contact.area_gap,
             normal_per_current_area=params.contact.normal_traction_area == "current",
         )
-        self.bc = Dirichlet.on_nodes(mesh.base, self.bulk.pattern)
+        self.dim = d = mesh.dim
+        # the clamped base; in a 3D half model also the normal (y) DOFs of the plane of symmetry
+        fixed = node_dofs(mesh.base, d)
+        self.bc = Dirichlet.on_dofs(np.union1d(fixed, d * mesh.symmetry + 1) if len(mesh.symmetry) else fixed,
+                                    self.bulk.pattern)
         self.n_dofs = mesh.n_dofs
         # contact blocks of a surface segment land in the bulk pattern (the segment's nodes share a cell)
         seg_dofs = self.contact.seg_dofs
@@ -102,10 +106,11 @@ class CapModel:
         rows = np.repeat(seg_dofs, m2, axis=1).reshape(-1, m2, m2)
         cols = np.tile(seg_dofs, (1, m2)).reshape(-1, m2, m2)
         self._contact_slots = self.bulk.pattern.positions(rows.ravel(), cols.ravel()).reshape(-1, m2 * m2)
-        self.apex_node = int(np.argmax(mesh.nodes[:, 1]))
-        self.apex_y_dof = 2 * self.apex_node + 1
-        self._surface = mesh.surface_nodes
-        self._surface_X = mesh.nodes[self._surface, 0]
+        self.apex_node = int(np.argmax(mesh.nodes[:, -1]))
+        self.apex_y_dof = d * self.apex_node + d - 1  # the apex's vertical DOF
+        if d == 2:  # the edge gap's material points: on the top line, by reference x
+            self._surface = mesh.surface_nodes
+            self._surface_X = mesh.nodes[self._surface, 0]
 
     def sticking(self) -> CapModel:
         """This model with every surface point held in stick (:class:`capslide.laws.friction.Sticking`, no slip
@@ -190,8 +195,8 @@ class CapModel:
         record's surface profile and base reaction, a snapshot's nodal displacements and cell invariant."""
         points, n_dofs = self.contact.quad.X.shape[:-1], self.n_dofs + 1
         shapes = {"x": (n_dofs,), "loop_x": (n_dofs,), "loop_x_prev": (n_dofs,), "anchors": points,
-                  "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (2,),
-                  "snapshot_u": (self.mesh.n_nodes, 2), "snapshot_I1_sigma": (self.mesh.n_cells,)}
+                  "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (self.dim,),
+                  "snapshot_u": (self.mesh.n_nodes, self.dim), "snapshot_I1_sigma": (self.mesh.n_cells,)}
         if self.params.mesh.formulation == "mixed":
             shapes["pressure_multiplier"] = (self.mesh.n_cells, 3)
         if self.branches is not None:
@@ -230,9 +235,9 @@ class CapModel:
 
     # -- measures of a state ----------------------------------------------
     def base_reaction(self, x: np.ndarray, history: History | None = None, dt: float = 0.0) -> np.ndarray:
-        """Sum of the internal forces at the clamped base nodes (x, y), E L0, at the end of a step of dt seconds
-        from ``history`` (its pressure multiplier and viscous networks)."""
-        f = self.internal_force(x[:-1], history or History(), dt).reshape(-1, 2)
+        """Sum of the internal forces at the clamped base nodes (x, y (, z)), E L0 (E L0^2 in 3D), at the end of a
+        step of dt seconds from ``history`` (its pressure multiplier and viscous networks)."""
+        f = self.internal_force(x[:-1], history or History(), dt).reshape(-1, self.dim)
         return f[self.mesh.base].sum(axis=0)
 
     def cell_first_invariant(self, x: np.ndarray, history: History) -> np.ndarray:

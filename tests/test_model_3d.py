@@ -1,0 +1,84 @@
+"""The cap model in 3D (issue 39): the CGCM normal contact on the top faces of the spherical cap's half model, its
+consistent linearization against finite differences (the bordered Jacobian of the model: bulk, contact, the
+substrate height and the constraint row), the boundary conditions of the half model, and the contact force's
+integral against a direct sum."""
+
+import numpy as np
+import pytest
+
+from capslide.config import apply_overrides, validate
+from capslide.fem.assembly import rigid_body_modes
+from capslide.fem.hex_mesh import SphereCapSpec, sphere_cap_mesh
+from capslide.model.constraints import FixedApexGap, FixedForce, FixedHeight
+from capslide.model.system import CapModel, History
+from capslide.params import Parameters
+from capslide.solvers.linsolve import make_solver
+
+
+@pytest.fixture(scope="module")
+def model(paper_config):
+    cfg = validate(apply_overrides(paper_config, ["friction.model=none"]))
+    p = Parameters.from_config(cfg)
+    mesh = sphere_cap_mesh(SphereCapSpec(R=47.1, H=10.0, h0=0.8, band_radius=4.0, max_size_over_H=0.4))
+    solver = make_solver("amg", near_null_space=rigid_body_modes(mesh.nodes))
+    return CapModel(mesh, p, solver)
+
+
+def _state(model, seed=0):
+    """The cap pressed up into the band of the adhesion law: gaps on both sides of g_eq and beyond g_max."""
+    rng = np.random.default_rng(seed)
+    X = model.mesh.nodes
+    a = model.params.adhesion
+    u = np.zeros(model.n_dofs)
+    r2 = X[:, 0] ** 2 + X[:, 1] ** 2
+    u[2::3] = 0.3 * a.r0 * np.exp(-r2 / 9.0) * X[:, 2] / 10
+    u[0::3] = 0.05 * X[:, 2] / 10
+    u += 1e-3 * a.r0 * rng.normal(size=model.n_dofs)
+    u[model.bc.dofs] = 0.0
+    return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])
+
+
+def test_half_model_boundary_conditions(model):
+    mesh = model.mesh
+    fixed = set(model.bc.dofs.tolist())
+    assert all(3 * n + i in fixed for n in mesh.base for i in range(3))
+    assert all(3 * n + 1 in fixed for n in mesh.symmetry)
+    assert not any(3 * n in fixed or 3 * n + 2 in fixed for n in np.setdiff1d(mesh.symmetry, mesh.base))
+    assert model.mesh.nodes[model.apex_node].tolist() == pytest.approx([0.0, 0.0, 10.0])
+    assert model.apex_y_dof == 3 * model.apex_node + 2
+
+
+@pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09)], ids=["h", "Fn", "apex"])
+def test_bordered_jacobian_against_finite_differences(model, constraint):
+    x = _state(model)
+    g, _ = model.contact.gaps(x[:-1], x[-1])
+    a = model.params.adhesion
+    assert (g < a.g_reg).any() and ((g > a.g_eq) & (g < a.g_max)).any() and (g > a.g_max).any()
+    r, solve = model.linearize(x, constraint, History())
+    np.testing.assert_allclose(r, model.residual(x, constraint, History()), atol=1e-13)
+    rng = np.random.default_rng(3)
+    free = np.ones(model.n_dofs + 1)
+    free[model.bc.dofs] = 0.0
+    for _ in range(3):
+        v = rng.normal(size=model.n_dofs + 1) * free
+        eps = 1e-7
+        fd = (model.residual(x + eps * v, constraint, History()) - model.residual(x - eps * v, constraint, History())) / (2 * eps)
+        Jv = np.concatenate([solve.K @ v[:-1] + solve.c * v[-1], [solve.d @ v[:-1] + solve.e * v[-1]]])
+        np.testing.assert_allclose(Jv, fd, atol=1e-6 * np.abs(fd).max())
+
+
+def test_contact_force_is_the_traction_integral(model):
+    """Fn from the force vector equals the sum of the traction over the Gauss points, and it acts along z only."""
+    x = _state(model)
+    u, h = x[:-1], x[-1]
+    f, Fn, Ft = model.contact.force(u, h)
+    assert Ft == 0.0
+    g, _ = model.contact.gaps(u, h)
+    Tn, _ = model.contact.traction(np.minimum(g, model.contact.far_gap))
+    Tn = np.where(g < model.contact.far_gap, Tn, 0.0)
+    assert Fn == pytest.approx(-np.sum(Tn * model.contact.quad.weight), rel=1e-12)
+    assert f[2::3].sum() == pytest.approx(Fn, rel=1e-12)
+    np.testing.assert_allclose(f[0::3], 0.0)
+    np.testing.assert_allclose(f[1::3], 0.0)
+    assert model.base_reaction(x).shape == (3,)
+    assert model.saved_shapes()["snapshot_u"] == (model.mesh.n_nodes, 3)
