@@ -46,6 +46,15 @@ def test_half_model_boundary_conditions(model):
     assert not any(3 * n in fixed or 3 * n + 2 in fixed for n in np.setdiff1d(mesh.symmetry, mesh.base))
     assert model.mesh.nodes[model.apex_node].tolist() == pytest.approx([0.0, 0.0, 10.0])
     assert model.apex_y_dof == 3 * model.apex_node + 2
+    x = np.zeros(model.n_dofs + 1)
+    x[-1], x[model.apex_y_dof] = 10.7, 0.2
+    assert model.apex_gap(x) == pytest.approx(0.5)  # the gap along z
+    # the edge gap's points: the top's line on the plane of symmetry, both sides
+    dofs, w = model.edge_weights(2.0)
+    nodes = (dofs - 2) // 3
+    assert np.all(dofs % 3 == 2) and w.sum() == pytest.approx(1.0)
+    np.testing.assert_allclose(model.mesh.nodes[nodes, 1], 0.0)
+    assert model.mesh.nodes[nodes, 0].min() < -1.0 and model.mesh.nodes[nodes, 0].max() > 1.0
 
 
 @pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09)], ids=["h", "Fn", "apex"])
@@ -68,7 +77,8 @@ def test_bordered_jacobian_against_finite_differences(model, constraint):
 
 
 def test_contact_force_is_the_traction_integral(model):
-    """Fn from the force vector equals the sum of the traction over the Gauss points, and it acts along z only."""
+    """Fn is the whole sphere's: twice the half model's sum of the traction over the Gauss points, and twice its
+    force vector's z sum; the force acts along z only."""
     x = _state(model)
     u, h = x[:-1], x[-1]
     f, Fn, Ft = model.contact.force(u, h)
@@ -76,8 +86,8 @@ def test_contact_force_is_the_traction_integral(model):
     g, _ = model.contact.gaps(u, h)
     Tn, _ = model.contact.traction(np.minimum(g, model.contact.far_gap))
     Tn = np.where(g < model.contact.far_gap, Tn, 0.0)
-    assert Fn == pytest.approx(-np.sum(Tn * model.contact.quad.weight), rel=1e-12)
-    assert f[2::3].sum() == pytest.approx(Fn, rel=1e-12)
+    assert Fn == pytest.approx(-2 * np.sum(Tn * model.contact.quad.weight), rel=1e-12)
+    assert 2 * f[2::3].sum() == pytest.approx(Fn, rel=1e-12)
     np.testing.assert_allclose(f[0::3], 0.0)
     np.testing.assert_allclose(f[1::3], 0.0)
     assert model.base_reaction(x).shape == (3,)

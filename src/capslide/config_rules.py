@@ -15,7 +15,22 @@ __all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency"]
 # benchmarks/locking.py (docs/stability.md): the zero-load contact area of the paper's cap at the element's preset
 # (Q1: fast, Q2: paper) against a converged reference, within the preset's error budget (5 %, 1 %).
 # Q1: -3.8 % at nu = 0.45, -6.9 % at 0.48, -10.4 % at 0.49. Q2: -0.11 % at 0.48, -0.16 % at 0.49.
-LOCKING_NU = {"Q1": 0.45, "Q2": 0.49}
+LOCKING_NU = {"Q1": 0.45, "Q2": 0.49, "H1": 0.45}  # H1: Q1's measured limit, not yet measured in 3D
+
+
+def _check_three_d(config: Mapping) -> None:
+    """The 3D sphere (mesh.element = H1) has normal contact only in this version: no friction, no slide, no viscous
+    bulk, the normal traction per reference area (friction in 3D: issue 40)."""
+    if config["mesh"]["element"] != "H1":
+        return
+    refused = {"friction.model": (config["friction"]["model"], "none"),
+               "loading.ubar_max": (config["loading"]["ubar_max"], 0.0),
+               "material.model": (config["material"]["model"], "neo_hooke"),
+               "contact.normal_traction_area": (config["contact"]["normal_traction_area"], "reference")}
+    for key, (value, allowed) in refused.items():
+        if value != allowed:
+            raise ConfigError(f"{key} = {value!r} is not allowed with mesh.element = H1: the 3D sphere has frictionless "
+                              f"normal contact only in this version (use {allowed!r})")
 
 
 def _check_locking(config: Mapping) -> None:
@@ -73,6 +88,7 @@ def check_consistency(config: Mapping) -> None:
     """Cross-key rules the schema cannot express."""
     _check_locking(config)
     _check_viscoelastic(config)
+    _check_three_d(config)
     g_reg_limit = 3.0 ** (1.0 / 6.0)  # g_max / g_eq: beyond it Tn'(g_reg) > 0 and the law never repels
     g_reg = config["adhesion"]["g_reg_over_g_eq"]
     if g_reg >= g_reg_limit:
@@ -96,6 +112,8 @@ def check_consistency(config: Mapping) -> None:
     # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
     R, H = geo["R"], geo["H"]
     arc = 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
+    if config["mesh"]["element"] == "H1":  # the sphere: the cap's area 2 pi R H (force in E L0^2)
+        arc = 2.0 * math.pi * R * H
     bound = config["adhesion"]["T_max"] / config["material"]["E"] * arc
     preload = config["loading"]["preload"]
     if not config["contact"]["repulsion_only"] and preload > bound:

@@ -52,16 +52,15 @@ def cmd_constants(args) -> int:
 
 def cmd_mesh(args) -> int:
     """Build the cap mesh of a configuration and write it as netCDF."""
-    from ..fem.mesh import cap_mesh
     from ..io.results import mesh_dataset, write_netcdf
     from ..model import cost
-    from ..model.build import cap_mesh_spec
+    from ..model.build import mesh_from_spec, mesh_spec
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
-    spec = cap_mesh_spec(params)
+    spec = mesh_spec(params)
     cost.check(params, spec, steps=False)
-    mesh = cap_mesh(spec)
+    mesh = mesh_from_spec(spec)
     write_netcdf(mesh_dataset(mesh, params.config, history=command_line()), output)
     print(f"{output}: {mesh.n_cells} {mesh.element} cells, {mesh.n_nodes} nodes, {mesh.n_dofs} DOF, "
           f"{len(mesh.surface_segments)} surface segments")
@@ -162,11 +161,11 @@ def cmd_run(args) -> int:
     """Run one case end to end and write its netCDF file (also when it fails)."""
     from ..io.results import case_dataset, write_netcdf
     from ..model import cost
-    from ..model.build import cap_mesh_spec
+    from ..model.build import mesh_spec
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
-    checked = cost.check(params, cap_mesh_spec(params))  # the preflight, once: before anything is written
+    checked = cost.check(params, mesh_spec(params))  # the preflight, once: before anything is written
     start = _normal_state(args.from_state, params.config) if args.from_state else None
     result, writer = _run_checkpointed(params, output, args, start, checked=checked)
     write_netcdf(case_dataset(result, history=command_line()), output)
@@ -203,12 +202,12 @@ def cmd_preload(args) -> int:
     from ..io.checkpoint import SavedCase
     from ..io.normal_state import write_normal_state
     from ..model import cost
-    from ..model.build import cap_mesh_spec
+    from ..model.build import mesh_spec
     from ..states import Status
 
     params = parameters(args)
     (output,) = check_outputs([args.output], {"npz"})
-    checked = cost.check(params, cap_mesh_spec(params))
+    checked = cost.check(params, mesh_spec(params))
     start = _continued_start(params, args.from_state) if args.from_state else None
     result, writer = _run_checkpointed(params, output, args, start, stop_before="dwell", checked=checked)
     ended = None if result.status == Status.COMPLETED else (result.status, result.reason)
@@ -300,8 +299,10 @@ def cmd_vtk(args) -> int:
     except OSError as err:
         raise InputError(f"cannot create output directory '{out}': {err.strerror}") from None
     stem = args.stem or Path(args.file).stem
-    nodes = np.column_stack([case["X_node"].values, case["Y_node"].values])
+    three = "Z_node" in case.coords
+    nodes = np.column_stack([case[k].values for k in ("X_node", "Y_node", "Z_node")[: 3 if three else 2]])
     pvd = write_snapshot_series(out, stem, nodes, case["cell_nodes"].values, case["snapshot_ubar"].values,
-                                case["u_node"].values, case["v_node"].values, case["I1_sigma"].values)
+                                case["u_node"].values, case["v_node"].values, case["I1_sigma"].values,
+                                case["w_node"].values if three else None)
     print(f"{pvd}: {case.sizes['snapshot_ubar']} snapshots (time = ubar / L0)")
     return 0

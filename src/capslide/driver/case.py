@@ -19,7 +19,7 @@ from ..loadpath.cap import PathEnd, PathState, after_normal_state, initial_state
 from ..loadpath.continuation import Notice, Returning
 from ..loadpath.measures import Snapshot, StepRecord, sliding_onset
 from ..model import cost
-from ..model.build import build_model, cap_mesh_spec
+from ..model.build import build_model, mesh_spec
 from ..params import Parameters
 from ..states import Status
 from .observers import Checkpointing, Clock, Observer, OnsetStop, PeelOff, Recorder, Snap, Snapshots, StepBudget
@@ -65,7 +65,7 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     (the command line checks before it writes anything), so that it runs once.
     """
     if mesh is None:
-        estimate = checked if checked is not None else cost.check(params, cap_mesh_spec(params))
+        estimate = checked if checked is not None else cost.check(params, mesh_spec(params))
         for obs in observers:
             obs.notice(Notice(f"building the mesh: {estimate.cells:,} {params.mesh.element} cells, {estimate.dofs:,} DOF"))
     else:

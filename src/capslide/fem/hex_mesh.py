@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mesh import CapMeshSpec, Mesh, _arc_angles, _coons_map
+from .mesh import BandTooWide, CapMeshSpec, Mesh, _arc_angles, _coons_map
 
 __all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "spherical_cap_volume"]
 
@@ -63,7 +63,8 @@ def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np
     n = max(2, math.ceil(c / h0))
     c = n * h0
     if 1.5 * c >= U:
-        raise ValueError(f"contact band radius {band:g} L0 leaves no room for the rings (U = {U:.3g} L0)")
+        raise BandTooWide(f"contact band radius {band:g} L0 leaves no room for the rings around it on the cap top "
+                          f"(at most {U / 1.5 * 1.5:.3g} L0)")
     gamma = math.pi / (4 * n)  # a ring step of gamma rho keeps the ring cells square
     radii, step = [c], 0.0
     while radii[-1] < U:

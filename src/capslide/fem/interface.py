@@ -145,7 +145,9 @@ class SurfaceContact:
 
     ``law`` is the friction law (None: frictionless) and ``return_map`` its penalty and slip weakening; friction
     acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. In 3D the contact is
-    frictionless with theta_k = 1 (friction and J_s on faces: issue 40).
+    frictionless with theta_k = 1 (friction and J_s on faces: issue 40). On a half model (a mesh with a plane of
+    symmetry) the integrated quantities, Fn, Ft and the adhesion energy, and their derivatives, are the whole
+    body's: twice the half's (``multiplicity``); the force vector is the half's.
     """
 
     def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
@@ -160,6 +162,7 @@ class SurfaceContact:
         self.far_gap = far_gap
         self.repulsion_only = repulsion_only
         self.dim = d = mesh.dim
+        self.multiplicity = 2.0 if len(mesh.symmetry) else 1.0
         self.vertical = d - 1  # the axis of the gap and of the normal traction
         if d == 3 and (law is not None or normal_per_current_area):
             raise ValueError("3D contact is frictionless with the normal traction per reference area (issue 40)")
@@ -241,7 +244,11 @@ class SurfaceContact:
         if pts.Tt is not None:
             np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
             Ft = float(np.sum(pts.Tt * W))
-        return f, float(-np.sum(pts.Tn_ref * W)), Ft
+        return f, self.whole(float(-np.sum(pts.Tn_ref * W))), self.whole(Ft)
+
+    def whole(self, value):
+        """An integral over the modelled part as the whole body's (half model: twice it)."""
+        return value if self.multiplicity == 1.0 else self.multiplicity * value
 
     def linearize(self, u: np.ndarray, h: float, ubar: float = 0.0, anchors: np.ndarray | None = None,
                   slip: np.ndarray | None = None) -> ContactLinearization:
@@ -274,8 +281,9 @@ class SurfaceContact:
             blocks[:, :, 0, :, :] -= np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.dTt_dJ, pts.dJ_du())
             np.add.at(dR_dh, 2 * seg, -np.einsum("sga,sg->sa", NW, pts.dTt_dg))
         return ContactLinearization(
-            f=f, Fn=float(-np.sum(pts.Tn_ref * W)), Ft=Ft, blocks=blocks.reshape(len(act), d * p1, d * p1),
-            active_segments=act, dR_dh=dR_dh, dFn_du=dFn_du, dFn_dh=float(-np.sum(dTn * W)),
+            f=f, Fn=self.whole(float(-np.sum(pts.Tn_ref * W))), Ft=self.whole(Ft),
+            blocks=blocks.reshape(len(act), d * p1, d * p1), active_segments=act, dR_dh=dR_dh,
+            dFn_du=self.whole(dFn_du), dFn_dh=self.whole(float(-np.sum(dTn * W))),
         )
 
     def adhesion_energy(self, u: np.ndarray, h: float) -> float:
@@ -288,7 +296,7 @@ class SurfaceContact:
         phi = contact.normal_potential(g, a.T0, a.r0, a.g_reg, self.far_gap)
         if self.repulsion_only:  # max(Tn, 0): the potential of the repulsive part, zero beyond g_eq
             phi = np.maximum(phi - contact.normal_potential(a.g_eq, a.T0, a.r0, a.g_reg, self.far_gap), 0.0)
-        return float(np.sum(phi * W)) if not self.normal_per_current_area else float("nan")
+        return self.whole(float(np.sum(phi * W))) if not self.normal_per_current_area else float("nan")
 
     # -- friction history ---------------------------------------------------
     def anchors_at(self, u: np.ndarray, ubar: float = 0.0) -> np.ndarray:

@@ -2,11 +2,12 @@
 variable, read by the case files (:mod:`capslide.io.results`), the collected cube (:mod:`capslide.io.cube`) and
 checked against ``docs/data.md`` and the step records by the tests.
 
-An entry gives the name, the dimensions, the kind of unit (``length``, ``stress``, ``force``, ``energy``: scaled by
-the configuration's E and L0; ``1`` or ``s``), a short ``long_name`` (an axis label, at most 40 characters), a
+An entry gives the name, the dimensions, the kind of unit (``length``, ``area``, ``stress``, ``force``, ``energy``:
+scaled by the configuration's E and L0, as a 2D case per unit width and a 3D case as the whole body; ``1`` or
+``s``), a short ``long_name`` (an axis label, at most 40 characters), a
 ``description`` with the details, the :class:`capslide.loadpath.measures.StepRecord` field it is read from (None:
 derived when the file is written), whether the collected cube keeps it, and when it is present (``velocity``: with
-``loading.velocity``; ``profiles``: with ``output.surface_profiles``).
+``loading.velocity``; ``profiles``: with ``output.surface_profiles``; ``3d``: in 3D cases).
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ __all__ = ["Variable", "VARIABLES", "variable", "cube_step_variables", "cube_ste
            "recorded_step_variables"]
 
 STEP, PROFILE, SCALAR = ("step",), ("step", "surface_point"), ()
-NORMALIZATION = {"length": "L0", "stress": "E", "force": "E L0 W", "energy": "E L0^2 W"}
+# what a stored value of each kind of unit is divided by, in 2D (per unit width W) and in 3D
+NORMALIZATION = {"length": "L0", "area": "L0", "stress": "E", "force": "E L0 W", "energy": "E L0^2 W"}
+NORMALIZATION_3D = {"length": "L0", "area": "L0^2", "stress": "E", "force": "E L0^2", "energy": "E L0^3"}
 
 
 @dataclass(frozen=True)
@@ -30,13 +33,17 @@ class Variable:
     record: str | None = None  # the StepRecord field it is read from; None: derived when the file is written
     cube: bool = False  # the collected file keeps it
     coordinate: bool = False
-    present: str = "always"  # always, velocity (with loading.velocity), profiles (with output.surface_profiles)
+    present: str = "always"  # always, velocity (with loading.velocity), profiles (with output.surface_profiles), 3d
     dtype: str = "float64"  # as stored
 
     @property
     def normalization(self) -> str | None:
-        """What the stored values are divided by ("L0", "E", ...), None for counts, flags and times."""
+        """What the stored values of a 2D case are divided by ("L0", "E", ...), None for counts, flags and times."""
         return NORMALIZATION.get(self.unit)
+
+    def normalization_in(self, dim: int) -> str | None:
+        """What the stored values are divided by in a case of dimension ``dim``."""
+        return (NORMALIZATION if dim == 2 else NORMALIZATION_3D).get(self.unit)
 
 
 VARIABLES = (
@@ -52,16 +59,20 @@ VARIABLES = (
     Variable("Fn", STEP, "force", "normal force Fn", "normal contact force on the cap, positive = tensile", "Fn", True),
     Variable("Ft", STEP, "force", "friction force Ft",
              "tangential contact force on the cap, positive in the sliding direction", "Ft", True),
-    Variable("area", STEP, "length", "contact area A", "current length where g_n <= {area_gap:.5g} L0", "area", True),
-    Variable("area_compressive", STEP, "length", "compressive contact area", "current length where Tn >= 0",
+    Variable("area", STEP, "area", "contact area A", "current length (3D: area) where g_n <= {area_gap:.5g} L0", "area",
+             True),
+    Variable("area_compressive", STEP, "area", "compressive contact area", "current length (3D: area) where Tn >= 0",
              "area_compressive", True),
-    Variable("area_stick", STEP, "length", "stick area", "current length of sticking points in contact", "area_stick",
+    Variable("area_stick", STEP, "area", "stick area", "current length of sticking points in contact", "area_stick",
              True),
     Variable("x_left", STEP, "length", "left contact edge x", "current x of the left (trailing) contact edge",
              "x_left", True),
     Variable("x_right", STEP, "length", "right contact edge x", "current x of the right (leading) contact edge",
              "x_right", True),
-    Variable("area_reference", STEP, "length", "reference contact area",
+    Variable("width_y", STEP, "length", "contact width along y",
+             "3D: the contact's current width across the sliding direction (the whole body's)", "width_y",
+             present="3d"),
+    Variable("area_reference", STEP, "area", "reference contact area",
              "reference length of the contact (the contact area in the reference configuration)", "area_reference",
              True),
     Variable("x_stick_left", STEP, "length", "left stick edge x",
@@ -96,7 +107,10 @@ VARIABLES = (
     Variable("base_force_x", STEP, "force", "base force x",
              "x force of the clamped base on the cap; force balance: Ft + base_force_x = 0", "reaction", True),
     Variable("base_force_y", STEP, "force", "base force y",
-             "y force of the clamped base on the cap; force balance: Fn + base_force_y = 0", "reaction", True),
+             "y force of the clamped base on the cap; force balance in 2D: Fn + base_force_y = 0", "reaction", True),
+    Variable("base_force_z", STEP, "force", "base force z",
+             "3D: z force of the clamped base on the sphere (the whole body's); force balance: Fn + base_force_z = 0",
+             "reaction", present="3d"),
     # profiles on step x surface_point
     Variable("x_current", PROFILE, "length", "current x of the surface point", record="x_surface", present="profiles"),
     Variable("y_current", PROFILE, "length", "current y of the surface point", record="y_surface", present="profiles"),
@@ -117,7 +131,7 @@ VARIABLES = (
     Variable("onset_ubar", SCALAR, "length", "onset ubar", "ubar at the onset of full sliding (NaN: not reached)",
              cube=True),
     Variable("onset_Ft", SCALAR, "force", "onset Ft", "Ft at the onset of full sliding", cube=True),
-    Variable("onset_area", SCALAR, "length", "onset area", "contact area at the onset of full sliding", cube=True),
+    Variable("onset_area", SCALAR, "area", "onset area", "contact area at the onset of full sliding", cube=True),
 )
 _BY_NAME = {v.name: v for v in VARIABLES}
 

@@ -45,10 +45,15 @@ CASE_SCALARS = case_scalars()
 PROFILE = ("step", "surface_point")
 
 
-def scaled_units(E: float, L0: float) -> dict[str, str]:
-    """UDUNITS strings of the internal units: length L0 (m), stress E (Pa), force per unit out-of-plane width
-    E L0 (N/m; plane strain, W = 1), energy per unit width E L0^2 (J/m)."""
-    return {"length": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m", "energy": f"{E * L0 * L0:g} J/m"}
+def scaled_units(E: float, L0: float, dim: int = 2) -> dict[str, str]:
+    """UDUNITS strings of the internal units: length L0 (m), stress E (Pa); in 2D a contact area is a length, the
+    force per unit out-of-plane width E L0 (N/m; plane strain, W = 1), the energy per unit width E L0^2 (J/m); in 3D
+    area L0^2 (m2), force E L0^2 (N), energy E L0^3 (J)."""
+    if dim == 3:
+        return {"length": f"{L0:g} m", "area": f"{L0 * L0:g} m2", "stress": f"{E:g} Pa", "force": f"{E * L0 * L0:g} N",
+                "energy": f"{E * L0**3:g} J"}
+    return {"length": f"{L0:g} m", "area": f"{L0:g} m", "stress": f"{E:g} Pa", "force": f"{E * L0:g} N/m",
+            "energy": f"{E * L0 * L0:g} J/m"}
 
 
 def quantity(long_name: str, units: str | None, normalization: str | None = None,
@@ -130,7 +135,9 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: s
                                                "reference x")),
         },
         coords={"X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", length, "L0")),
-                "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", length, "L0"))},
+                "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", length, "L0")),
+                **({"Z_node": ("node", mesh.nodes[:, 2], quantity("reference z of the node", length, "L0"))}
+                   if mesh.dim == 3 else {})},
         attrs={"element": mesh.element, "n_dofs": mesh.n_dofs,
                **{f"grading_{k}": _attr_value(v) for k, v in mesh.info.items()}},
     )
@@ -140,9 +147,10 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: s
 
 def _attrs(name: str, units: Mapping[str, str], **values) -> dict:
     """CF attributes of the catalog's variable ``name`` (:mod:`capslide.io.catalog`): its unit scaled by ``units``
-    (:func:`scaled_units`), its description with ``values`` filled in."""
+    (:func:`scaled_units`: 2D, or 3D when it has m2 areas), its description with ``values`` filled in."""
     v = variable(name)
-    return quantity(v.long_name, units.get(v.unit, v.unit), v.normalization,
+    dim = 3 if units["area"].endswith("m2") else 2
+    return quantity(v.long_name, units.get(v.unit, v.unit), v.normalization_in(dim),
                     v.description.format(**values) if values else v.description)
 
 
@@ -161,13 +169,13 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     """A :class:`capslide.driver.case.CaseResult` as a case file (docs/data.md); every variable over the steps and
     the surface points, and every case scalar, as the catalog (:mod:`capslide.io.catalog`) gives it."""
     p, recs, mesh = result.params, result.records, result.mesh
-    u = scaled_units(p.units.E, p.units.L0)
+    u, d = scaled_units(p.units.E, p.units.L0, mesh.dim), mesh.dim
     step = lambda name, dt=float: np.array([getattr(r, name) for r in recs], dtype=dt)  # noqa: E731
     n_pts = len(recs[0].gap) if recs else 0
     prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
                                    if recs else np.zeros((0, n_pts), dtype=dt))
     data = {v.name: ("step", step(v.record, v.dtype), _attrs(v.name, u, area_gap=p.contact.area_gap))
-            for v in recorded_step_variables()}
+            for v in recorded_step_variables() if v.present != "3d" or d == 3}
     area = step("area")
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
                             _attrs("Ft_over_area", u))
@@ -178,6 +186,8 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float), _attrs("base_force_x", u)),
         "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float), _attrs("base_force_y", u)),
     })
+    if d == 3:
+        data["base_force_z"] = ("step", np.array([r.reaction[2] for r in recs], dtype=float), _attrs("base_force_z", u))
     if p.output.surface_profiles:
         data.update({name: (PROFILE, prof(variable(name).record), _attrs(name, u))
                      for name in ("x_current", "y_current", "gap", "traction_n", "traction_t")})
@@ -194,6 +204,8 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
                    quantity("x displacement of the node", u["length"], "L0")),
         "v_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 1] for sn in snaps]).reshape(k, nn),
                    quantity("y displacement of the node", u["length"], "L0")),
+        **({"w_node": (("snapshot_ubar", "node"), np.array([sn.u[:, 2] for sn in snaps]).reshape(k, nn),
+                       quantity("z displacement of the node", u["length"], "L0"))} if d == 3 else {}),
         "I1_sigma": (("snapshot_ubar", "cell"), np.array([sn.I1_sigma for sn in snaps]).reshape(k, nc),
                      quantity("I1(sigma)", u["stress"], "E",
                              "first invariant of the Cauchy stress (with sigma_zz), cell average")),
@@ -205,10 +217,13 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "h": ("step", step("h"), _attrs("h", u)),
         "X_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
                         quantity("reference x of the surface Gauss point", u["length"], "L0")),
+        **({"Y_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points, 1) if recs else np.zeros(0),
+                            quantity("reference y of the surface Gauss point", u["length"], "L0"))} if d == 3 else {}),
         "snapshot_ubar": ("snapshot_ubar", np.array([sn.ubar for sn in snaps], dtype=float),
                           quantity("ubar of the field snapshot", u["length"], "L0")),
         "X_node": ("node", mesh.nodes[:, 0], quantity("reference x of the node", u["length"], "L0")),
         "Y_node": ("node", mesh.nodes[:, 1], quantity("reference y of the node", u["length"], "L0")),
+        **({"Z_node": ("node", mesh.nodes[:, 2], quantity("reference z of the node", u["length"], "L0"))} if d == 3 else {}),
     }
     if p.loading.velocity is not None:  # time is tracked
         coords["time"] = ("step", step("time"), _attrs("time", u))

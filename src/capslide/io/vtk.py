@@ -2,11 +2,11 @@
 
 XML UnstructuredGrid files (VTK file format version 1.0) with base64 binary
 data arrays and a UInt64 header. Points are the reference node coordinates
-(z = 0); the point array ``displacement`` (L0) gives the deformed shape
+(z = 0 in 2D); the point array ``displacement`` (L0) gives the deformed shape
 (ParaView: Warp By Vector) and the cell array ``I1_sigma`` (/ E) the first
 stress invariant. Q1 cells are VTK_QUAD (9); Q2 cells VTK_BIQUADRATIC_QUAD
 (28), whose node order (corners, mid-edges bottom/right/top/left, centre) is
-capslide's. The ``.pvd`` index carries ubar as its time value, so
+capslide's; H1 cells VTK_HEXAHEDRON (12), in VTK's order as capslide's. The ``.pvd`` index carries ubar as its time value, so
 ParaView's time slider steps through the slide. Files are written atomically.
 """
 
@@ -22,7 +22,7 @@ from .atomic import replacing
 
 __all__ = ["VTK_CELL_TYPES", "write_vtu", "write_pvd", "write_snapshot_series"]
 
-VTK_CELL_TYPES = {4: 9, 9: 28}  # nodes per cell -> VTK_QUAD, VTK_BIQUADRATIC_QUAD
+VTK_CELL_TYPES = {4: 9, 9: 28, 8: 12}  # nodes per cell -> VTK_QUAD, VTK_BIQUADRATIC_QUAD, VTK_HEXAHEDRON
 _VTK_TYPE_NAMES = {("f", 8): "Float64", ("f", 4): "Float32", ("i", 8): "Int64", ("u", 1): "UInt8"}
 
 
@@ -42,17 +42,21 @@ def _write_atomic(path: Path, text: str) -> None:
 
 def write_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray, point_vectors: dict[str, np.ndarray],
               cell_scalars: dict[str, np.ndarray]) -> Path:
-    """One unstructured grid: ``nodes`` (n, 2), ``cells`` (m, 4 or 9) node ids, 2D point vectors, cell scalars."""
+    """One unstructured grid: ``nodes`` (n, d), ``cells`` (m, 4, 9 or 8) node ids, point vectors (n, d), cell
+    scalars (d = 2: padded with z = 0)."""
     path = Path(path)
     n, m = len(nodes), len(cells)
     if cells.shape[1] not in VTK_CELL_TYPES:
-        raise ValueError(f"cells with {cells.shape[1]} nodes have no VTK type here (allowed: 4, 9)")
-    points = np.column_stack([nodes, np.zeros(n)]).astype(np.float64)
+        raise ValueError(f"cells with {cells.shape[1]} nodes have no VTK type here (allowed: 4, 9, 8)")
+
+    def three(a: np.ndarray) -> np.ndarray:
+        return (a if a.shape[1] == 3 else np.column_stack([a, np.zeros(n)])).astype(np.float64)
+
+    points = three(nodes)
     connectivity = cells.astype(np.int64).ravel()
     offsets = np.arange(1, m + 1, dtype=np.int64) * cells.shape[1]
     types = np.full(m, VTK_CELL_TYPES[cells.shape[1]], dtype=np.uint8)
-    pdata = "".join(_data_array(k, np.column_stack([v, np.zeros(n)]).astype(np.float64), 3)
-                    for k, v in point_vectors.items())
+    pdata = "".join(_data_array(k, three(v), 3) for k, v in point_vectors.items())
     cdata = "".join(_data_array(k, np.asarray(v, dtype=np.float64)) for k, v in cell_scalars.items())
     text = (
         '<?xml version="1.0"?>\n'
@@ -78,14 +82,16 @@ def write_pvd(path: str | Path, entries: list[tuple[float, str]]) -> Path:
 
 
 def write_snapshot_series(directory: str | Path, stem: str, nodes: np.ndarray, cells: np.ndarray, ubar: np.ndarray,
-                          u: np.ndarray, v: np.ndarray, I1_sigma: np.ndarray) -> Path:
-    """Every snapshot k as ``{stem}_{k:03d}.vtu`` plus ``{stem}.pvd`` (time = ubar) in ``directory``; the .pvd path."""
+                          u: np.ndarray, v: np.ndarray, I1_sigma: np.ndarray, w: np.ndarray | None = None) -> Path:
+    """Every snapshot k as ``{stem}_{k:03d}.vtu`` plus ``{stem}.pvd`` (time = ubar) in ``directory``; the .pvd path.
+    ``u``, ``v`` (and in 3D ``w``): the displacement components, (snapshots, nodes)."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     entries = []
     for k in range(len(ubar)):
         name = f"{stem}_{k:03d}.vtu"
-        write_vtu(directory / name, nodes, cells, {"displacement": np.column_stack([u[k], v[k]])},
+        parts = [u[k], v[k]] if w is None else [u[k], v[k], w[k]]
+        write_vtu(directory / name, nodes, cells, {"displacement": np.column_stack(parts)},
                   {"I1_sigma": I1_sigma[k]})
         entries.append((float(ubar[k]), name))
     return write_pvd(directory / f"{stem}.pvd", entries)

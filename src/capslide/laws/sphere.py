@@ -25,7 +25,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 __all__ = ["hertz_sphere_radius", "hertz_sphere_peak_pressure", "hertz_sphere_approach", "maugis_parameter_sphere",
            "dugdale_stress_for_lambda",
-           "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales"]
+           "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales", "jkr_radius"]
 
 
 def hertz_sphere_radius(P, R: float, E_star: float):
@@ -116,3 +116,11 @@ def md_zero_load_radius(lam: float) -> float:
     """The dimensionless contact radius A at zero load on the stable branch (beyond the pull-off radius)."""
     _, a_min = md_pull_off(lam)
     return brentq(lambda a: float(md_load(a, lam)), a_min, 10.0, xtol=1e-13, rtol=1e-13)
+
+
+def jkr_radius(P):
+    """The dimensionless JKR contact radius A on the stable branch at the load P_bar >= -3/2 (compressive
+    positive): P_bar = A^3 - sqrt(6 A^3), so A^(3/2) = (sqrt 6 + sqrt(6 + 4 P_bar)) / 2 (Johnson, Kendall and
+    Roberts 1971, in Johnson and Greenwood's variables)."""
+    t = 0.5 * (math.sqrt(6.0) + np.sqrt(6.0 + 4.0 * np.asarray(P, dtype=float)))
+    return t ** (2.0 / 3.0)

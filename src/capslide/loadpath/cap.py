@@ -137,9 +137,8 @@ def spread_control(model: CapModel) -> StepControl:
 
 def spread_constraint(model: CapModel):
     """Edge control at the approach's end gap, and the largest edge abscissa the top surface allows."""
-    X_surface = model.mesh.nodes[model.mesh.surface_nodes[[0, -1]], 0]
     gap = model.params.loading.approach_end_gap
-    return (lambda X: FixedEdgeGap(X, gap)), float(np.min(np.abs(X_surface)))
+    return (lambda X: FixedEdgeGap(X, gap)), model.edge_limit()
 
 
 def _force_control(model: CapModel) -> StepControl:

@@ -15,6 +15,7 @@ from ..fem.interface import SurfaceQuadrature
 from ..laws import contact
 from ..model.system import CapModel, History
 from ..states import Phase, SlipState
+from .contact_patch import contact_patch
 
 __all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot", "dissipation",
            "external_work_and_residual", "surface_reference_x", "case_energies",
@@ -54,6 +55,7 @@ class StepRecord:
     slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
     time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
     steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
+    width_y: float = math.nan  # 3D: the contact's width along y, the whole body's (L0); NaN in 2D
 
 
 # The record's fields, from its definition: scalars, and arrays (per surface point; the base reaction)
@@ -66,7 +68,7 @@ class Snapshot:
     """Field state at one tangential displacement."""
 
     ubar: float
-    u: np.ndarray  # (n_nodes, 2), L0
+    u: np.ndarray  # (n_nodes, d), L0
     I1_sigma: np.ndarray  # (n_cells,), E
 
 
@@ -83,13 +85,18 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
     _, Fn, Ft = c.force(u, h, ubar, history.anchors, history.slip)
     Tt, state = c.tangential_state(u, h, ubar, history.anchors, history.slip)
-    pts, gg, tn, st = xs.reshape(-1, 2), g.ravel(), Tn.ravel(), state.ravel()
+    pts, gg, tn, st = xs.reshape(-1, model.dim), g.ravel(), Tn.ravel(), state.ravel()
     open_gap = gg - model.params.contact.area_gap
-    area, xl, xr = interval_measures(pts, open_gap)
-    area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
-    area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
-    area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
-    sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
+    width = math.nan
+    if model.dim == 3:  # frictionless: no stick area
+        area, xl, xr, width, area_r, area_c = _patch_measures(model, u, h)
+        area_s, sl, sr = 0.0, math.nan, math.nan
+    else:
+        area, xl, xr = interval_measures(pts, open_gap)
+        area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
+        area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
+        area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
+        sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
     slip = np.zeros_like(gg)
     if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
         slip = (c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors).ravel()
@@ -100,13 +107,28 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
                       model.base_reaction(x, history, dt), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
                       elastic_energy=model.strain_energy(x, history, dt),
                       adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
-                      slip=slip, time=history.time + dt)
+                      slip=slip, time=history.time + dt, width_y=width)
+
+
+def _patch_measures(model: CapModel, u: np.ndarray, h: float) -> tuple[float, ...]:
+    """3D: the contact area (g_n <= the contact gap, current), its x ends and y width, the same area in the
+    reference configuration and the compressive area (g_n <= g_eq: Tn >= 0), from the nodal gaps of the top faces
+    (:mod:`capslide.loadpath.contact_patch`)."""
+    mesh, c = model.mesh, model.contact
+    X = mesh.nodes
+    x = X + u.reshape(-1, 3)
+    g = h - x[:, 2]
+    faces, k = mesh.surface_segments, c.multiplicity
+    patch = contact_patch(x, g - model.params.contact.area_gap, faces, k)
+    reference = contact_patch(X, g - model.params.contact.area_gap, faces, k)
+    compressive = contact_patch(x, g - model.params.adhesion.g_eq, faces, k)
+    return patch.area, patch.x_left, patch.x_right, patch.width_y, reference.area, compressive.area
 
 
 def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
     """Nodal displacements and the cell-averaged I1(sigma) of the converged state x (``history``: the one after
     it, with its pressure multiplier and viscous networks)."""
-    return Snapshot(ubar, x[:-1].reshape(-1, 2).copy(), model.cell_first_invariant(x, history or History()))
+    return Snapshot(ubar, x[:-1].reshape(-1, model.dim).copy(), model.cell_first_invariant(x, history or History()))
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:
@@ -202,9 +224,10 @@ def external_work_and_residual(recs, dissipated: np.ndarray) -> tuple[np.ndarray
     return work, work - (stored - stored[:1]) - dissipated
 
 
-def surface_reference_x(mesh, n_gauss: int) -> np.ndarray:
-    """Reference x of the surface Gauss points, in the order of the step records' profiles (by reference x)."""
-    return SurfaceQuadrature.on(mesh, n_gauss).X[..., 0].ravel()
+def surface_reference_x(mesh, n_gauss: int, axis: int = 0) -> np.ndarray:
+    """Reference x (or the coordinate ``axis``) of the surface Gauss points, in the order of the step records'
+    profiles (2D: by reference x)."""
+    return SurfaceQuadrature.on(mesh, n_gauss).X[..., axis].ravel()
 
 
 def case_energies(recs, mesh, n_gauss: int) -> dict[str, np.ndarray]:

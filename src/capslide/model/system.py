@@ -108,9 +108,14 @@ class CapModel:
         self._contact_slots = self.bulk.pattern.positions(rows.ravel(), cols.ravel()).reshape(-1, m2 * m2)
         self.apex_node = int(np.argmax(mesh.nodes[:, -1]))
         self.apex_y_dof = d * self.apex_node + d - 1  # the apex's vertical DOF
-        if d == 2:  # the edge gap's material points: on the top line, by reference x
+        # the edge gap's material points, by reference x: the top line (2D), the top's line on the plane of symmetry (3D)
+        if d == 2:
             self._surface = mesh.surface_nodes
-            self._surface_X = mesh.nodes[self._surface, 0]
+        else:
+            top = np.unique(mesh.surface_segments)
+            line = top[mesh.nodes[top, 1] == 0.0]
+            self._surface = line[np.argsort(mesh.nodes[line, 0])]
+        self._surface_X = mesh.nodes[self._surface, 0]
 
     def sticking(self) -> CapModel:
         """This model with every surface point held in stick (:class:`capslide.laws.friction.Sticking`, no slip
@@ -128,10 +133,11 @@ class CapModel:
 
     def apex_gap(self, x: np.ndarray) -> float:
         u, h = self.split(x)
-        return h - (self.mesh.nodes[self.apex_node, 1] + u[self.apex_y_dof])
+        return h - (self.mesh.nodes[self.apex_node, -1] + u[self.apex_y_dof])
 
     def edge_weights(self, X: float) -> tuple[np.ndarray, np.ndarray]:
-        """y-DOFs and weights w of the mean height (y(-X) + y(X))/2 = sum w (Y + u_y) of the surface points at +-X."""
+        """Vertical DOFs and weights w of the mean height (y(-X) + y(X))/2 = sum w (Y + u_y) of the surface points at
+        +-X (3D: on the plane of symmetry, z for y)."""
         Xs = self._surface_X
         if not abs(X) <= min(-Xs[0], Xs[-1]):
             raise ValueError(f"edge abscissa {X:g} outside the top surface [{Xs[0]:g}, {Xs[-1]:g}]")
@@ -139,7 +145,11 @@ class CapModel:
         i = np.clip(np.searchsorted(Xs, pts, side="right") - 1, 0, len(Xs) - 2)
         t = (pts - Xs[i]) / (Xs[i + 1] - Xs[i])
         nodes = np.concatenate([self._surface[i], self._surface[i + 1]])
-        return 2 * nodes + 1, 0.5 * np.concatenate([1.0 - t, t])
+        return self.dim * nodes + self.dim - 1, 0.5 * np.concatenate([1.0 - t, t])
+
+    def edge_limit(self) -> float:
+        """The largest edge abscissa X (L0) of :meth:`edge_weights`: the nearer end of the surface line."""
+        return float(np.min(np.abs(self._surface_X[[0, -1]])))
 
     def edge_gap(self, x: np.ndarray, X: float) -> float:
         """Mean gap (L0) of the top-surface material points at reference abscissa +-X."""
@@ -238,7 +248,10 @@ class CapModel:
         """Sum of the internal forces at the clamped base nodes (x, y (, z)), E L0 (E L0^2 in 3D), at the end of a
         step of dt seconds from ``history`` (its pressure multiplier and viscous networks)."""
         f = self.internal_force(x[:-1], history or History(), dt).reshape(-1, self.dim)
-        return f[self.mesh.base].sum(axis=0)
+        reaction = f[self.mesh.base].sum(axis=0)
+        if self.contact.multiplicity != 1.0:  # a half model: the whole body's (the y part cancels by symmetry)
+            reaction = self.contact.multiplicity * reaction * (np.arange(self.dim) != 1)
+        return reaction
 
     def cell_first_invariant(self, x: np.ndarray, history: History) -> np.ndarray:
         """I1(sigma) averaged over each cell (E) of the converged state x, ``history`` the one after it."""
@@ -246,7 +259,8 @@ class CapModel:
         return I1 if self.branches is None else I1 + self.branches.cell_first_invariant(x[:-1], history.networks, 0.0)
 
     def strain_energy(self, x: np.ndarray, history: History, dt: float = 0.0) -> float:
-        """The bulk's stored energy per unit width (E L0^2) at the end of a step of dt seconds from ``history``:
+        """The bulk's stored energy per unit width (E L0^2; in 3D E L0^3, the whole body's) at the end of a step of
+        dt seconds from ``history``:
         the elastic part and the viscous branches'."""
-        W = self.bulk.strain_energy(x[:-1], history.pressure)
+        W = self.contact.whole(self.bulk.strain_energy(x[:-1], history.pressure))
         return W if self.branches is None else W + self.branches.energy(x[:-1], history.networks, dt)

@@ -264,9 +264,10 @@ class LUKrylovSolver:
 SOLVERS = ("amg", "lu_krylov", "direct")
 
 
-def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: int) -> str:
-    """The solver ``kind`` names; 'auto' is 'lu_krylov' up to ``amg_above_dofs`` DOF and for the mixed
-    formulation (whose penalty bulk AMG was not made robust for), 'amg' above.
+def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: int, dim: int = 2) -> str:
+    """The solver ``kind`` names; 'auto' is 'amg' in 3D (where factors fill in: 5.2 GB and 84 s for one SuperLU
+    factorization at 86k DOF, ../shared/reference/sphere-facts.md), and in 2D 'lu_krylov' up to ``amg_above_dofs``
+    DOF and for the mixed formulation (whose penalty bulk AMG was not made robust for), 'amg' above.
 
     On the graded cap meshes, 12k to 2.1M DOF, a SuperLU factorization plus
     solve takes 6 to 11 times less time than one AMG setup plus W-cycle solve,
@@ -277,6 +278,8 @@ def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: in
     """
     if kind != "auto":
         return kind
+    if dim == 3:
+        return "amg"
     return "amg" if n_dofs > amg_above_dofs and not mixed else "lu_krylov"
 
 
@@ -285,8 +288,9 @@ def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | Non
     """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes, and ``exact_dofs``, e.g. those
     of the poorly shaped cells), 'lu_krylov' (its factors from ``factorization``: 'superlu' or 'pardiso') or
     'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
-    if kind == "amg":
-        return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol)
+    if kind == "amg":  # BSR blocks of the node's DOFs: as many as the near-null space's dimension (3 modes: 2D)
+        block = 3 if near_null_space is not None and near_null_space.shape[1] == 6 else 2
+        return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol, block_size=block)
     if kind == "lu_krylov":
         return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting, factorization=factorization)
     if kind == "direct":
