@@ -3,11 +3,17 @@
 The `hertz` scene's law (repulsion only, frictionless, E = 2 MPa, nu = 0.4) on the H1 half model of a large
 spherical cap (R = 100 L0, H = 50 L0, band radius 6 L0), pressed by the rigid flat under height control in equal
 steps, each solved by Newton with pyamg's smoothed aggregation (BSR 3x3, six rigid-body modes) as the linear solver.
-At each step: the load P = -2 Fn (both halves, E L0^2), the contact radius from the pressure's second moment
+At each step: the load P = -Fn (the whole sphere, E L0^2), the contact radius from the pressure's second moment
 (a^2 = 5/2 int p r^2 dA / int p dA, exact for the Hertz pressure), the radius of the area where Tn > 0
 (Gauss-point count), and the largest Gauss-point pressure, against Hertz (a^3 = 3 P R / (4 E*), p0 = 3 P / (2 pi a^2)).
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/hertz_sphere.py --h0 0.5 0.35
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/hertz_sphere.py --h0 0.8 0.5 0.35 --depths 0.2
+
+Locking: Hertz depends on E* = E / (1 - nu^2) alone, so the error at nu = 0.49 or 0.499 measures the element's
+volumetric locking (H1 displacement, or --formulation mixed: H1/P0, the mean dilatation):
+
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/hertz_sphere.py --h0 0.8 --depths 0.2 --nu 0.4 0.49 0.499 \
+        --formulation displacement mixed
 """
 
 from __future__ import annotations
@@ -29,8 +35,10 @@ from capslide.solvers.linsolve import make_solver
 from capslide.solvers.newton import NewtonOptions
 
 
-def run(h0: float, depths: list[float]) -> None:
-    p = Parameters.from_config(load_config(["hertz"], overrides=["mesh.surface_gauss_points=2"]))
+def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "displacement") -> None:
+    p = Parameters.from_config(load_config(["hertz"], overrides=[
+        "mesh.surface_gauss_points=2", f"material.nu={nu}", f"mesh.formulation={formulation}",
+        "limits.refuse_locking=false"]))
     mesh = sphere_cap_mesh(SphereCapSpec(R=100.0, H=50.0, h0=h0, band_radius=6.0))
     model = CapModel(mesh, p, make_solver("amg", near_null_space=rigid_body_modes(mesh.nodes)))
     E_star = 1.0 / (1.0 - p.material.nu**2)
@@ -42,7 +50,7 @@ def run(h0: float, depths: list[float]) -> None:
         res, _ = solve_constrained(model, FixedHeight(touch - depth), History(), x, NewtonOptions())
         elapsed = time.perf_counter() - t
         if not res.converged:
-            print(f"| {h0:g} | {mesh.n_dofs} | {depth:g} | no equilibrium: {res.reason} |")
+            print(f"| {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | no equilibrium: {res.reason} |")
             return
         x = res.x
         u, h = x[:-1], x[-1]
@@ -54,10 +62,11 @@ def run(h0: float, depths: list[float]) -> None:
         r2 = xs[..., 0] ** 2 + xs[..., 1] ** 2
         a_moment = math.sqrt(2.5 * np.sum(Tn * r2 * w) / np.sum(Tn * w))
         a_area = math.sqrt(2 * np.sum(w[Tn > 0]) / math.pi)
-        P = -2 * Fn
+        P = -Fn  # the whole sphere's (the half model reports it)
         a_h = (3 * P * 100.0 / (4 * E_star)) ** (1 / 3)
         p0 = 3 * P / (2 * math.pi * a_h**2)
-        print(f"| {h0:g} | {mesh.n_dofs} | {depth:g} | {P:.4g} | {a_moment:.4f} | {a_area:.4f} | {a_h:.4f} "
+        print(f"| {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | {P:.4g} | {a_moment:.4f} "
+              f"| {a_area:.4f} | {a_h:.4f} "
               f"| {a_moment / a_h - 1:+.2%} | {Tn.max() / p0 - 1:+.2%} | {res.iterations} | {res.linear_iterations} "
               f"| {elapsed:.1f} |", flush=True)
 
@@ -66,12 +75,16 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--h0", type=float, nargs="+", default=[0.5, 0.35])
     ap.add_argument("--depths", type=float, nargs="+", default=[0.05, 0.1, 0.2])
+    ap.add_argument("--nu", type=float, nargs="+", default=[0.4])
+    ap.add_argument("--formulation", nargs="+", default=["displacement"], choices=["displacement", "mixed"])
     args = ap.parse_args()
-    print("| h0 (L0) | DOF | depth (L0) | P (E L0^2) | a, moment | a, Tn > 0 | a, Hertz | a error | peak p error "
-          "| Newton | CG | time (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| h0 (L0) | nu | formulation | DOF | depth (L0) | P (E L0^2) | a, moment | a, Tn > 0 | a, Hertz | a error "
+          "| peak p error | Newton | CG | time (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for h0 in args.h0:
-        run(h0, args.depths)
+        for nu in args.nu:
+            for formulation in args.formulation:
+                run(h0, args.depths, nu, formulation)
 
 
 if __name__ == "__main__":

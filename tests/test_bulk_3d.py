@@ -10,6 +10,7 @@ import scipy.sparse.linalg as spla
 
 from capslide.fem.assembly import BulkForm, Dirichlet, node_dofs, rigid_body_modes
 from capslide.fem.hex_mesh import SphereCapSpec, box_mesh, sphere_cap_counts, sphere_cap_mesh, spherical_cap_volume
+from capslide.fem.mixed import MixedBulkForm
 from capslide.laws import material
 
 LAM, MU = 0.4 / (1.4 * 0.2), 1.0 / 2.8  # E = 1, nu = 0.4 (3D Lame constants)
@@ -35,6 +36,29 @@ def test_3d_tangent_is_the_residual_derivative(distorted):
     # the internal force is the energy's gradient
     dW = (form.strain_energy(u + h * du) - form.strain_energy(u - h * du)) / (2 * h)
     assert dW == pytest.approx(f @ du, rel=1e-6)
+
+
+@pytest.mark.parametrize("lam", [LAM, 100.0, np.inf], ids=["nu0.4", "nu0.498", "incompressible"])
+def test_mean_dilatation_tangent_is_the_residual_derivative(distorted, lam):
+    """H1/P0 (mesh.formulation = mixed in 3D): the condensed tangent against finite differences of the residual, the
+    residual against the energy's gradient, and one dilatation per cell."""
+    form = MixedBulkForm(distorted, lam, MU)
+    assert form.Np.shape[-1] == 1
+    rng = np.random.default_rng(1)
+    u = 0.05 * rng.standard_normal(distorted.n_dofs)
+    multiplier = 0.3 * rng.standard_normal((distorted.n_cells, 1)) if np.isinf(lam) else None
+    f, data = form.residual_and_tangent_data(u, multiplier)
+    K = form.pattern.matrix(data)
+    du = rng.standard_normal(distorted.n_dofs)
+    h = 1e-6
+    fd = (form.residual(u + h * du, multiplier) - form.residual(u - h * du, multiplier)) / (2 * h)
+    np.testing.assert_allclose(K @ du, fd, rtol=1e-6, atol=1e-7 * np.abs(fd).max())
+    dW = (form.strain_energy(u + h * du, multiplier) - form.strain_energy(u - h * du, multiplier)) / (2 * h)
+    assert dW == pytest.approx(f @ du, rel=1e-6)
+    theta = form.dilatation(u)
+    np.testing.assert_allclose(theta, theta[:, :1] * np.ones_like(theta))  # constant in each cell
+    J = material.det(form.deformation_gradient(u))
+    np.testing.assert_allclose(theta[:, 0], np.sum(J * form.wdetJ, axis=1) / form.wdetJ.sum(axis=1))
 
 
 def test_rigid_body_modes_span_the_null_space_at_rest(distorted):

@@ -308,8 +308,9 @@ def validate(config: Mapping) -> dict:
     out = apply_preset(config)
     check_schema(out, schema())
     _fill_defaults(out, schema())
-    from .config_rules import check_consistency  # the rules raise ConfigError, defined here
+    from .config_rules import check_consistency, derive_from_maugis_lambda  # the rules raise ConfigError, defined here
 
+    derive_from_maugis_lambda(out)
     check_consistency(out)
     return out
 

@@ -8,7 +8,7 @@ from collections.abc import Mapping
 
 from .config import ConfigError
 
-__all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency"]
+__all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_maugis_lambda"]
 
 
 # Largest Poisson's ratio at which each displacement element is free of volumetric locking, measured with
@@ -16,6 +16,28 @@ __all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency"]
 # (Q1: fast, Q2: paper) against a converged reference, within the preset's error budget (5 %, 1 %).
 # Q1: -3.8 % at nu = 0.45, -6.9 % at 0.48, -10.4 % at 0.49. Q2: -0.11 % at 0.48, -0.16 % at 0.49.
 LOCKING_NU = {"Q1": 0.45, "Q2": 0.49, "H1": 0.45}  # H1: Q1's measured limit, not yet measured in 3D
+
+
+def derive_from_maugis_lambda(config: dict) -> None:
+    """In place: adhesion.T_max from adhesion.maugis_lambda (the sphere's Maugis parameter at the configuration's
+    R, E, nu and W_adh; Maugis 1992, in Johnson and Greenwood's notation), or a ConfigError when T_max is missing,
+    set twice, or lambda is given for a 2D cap (whose Maugis parameter is another)."""
+    from .laws.sphere import dugdale_stress_for_lambda
+
+    adh, lam = config["adhesion"], config["adhesion"]["maugis_lambda"]
+    if lam is None:
+        if "T_max" not in adh:
+            raise ConfigError("missing key 'adhesion.T_max' (or set it through adhesion.maugis_lambda, 3D only)")
+        return
+    if "T_max" in adh:
+        raise ConfigError(f"adhesion.T_max = {adh['T_max']!r} is not allowed with adhesion.maugis_lambda = {lam!r}: "
+                          "lambda sets T_max (give one of them)")
+    if config["mesh"]["element"] != "H1":
+        raise ConfigError(f"adhesion.maugis_lambda = {lam!r} is not allowed with mesh.element = "
+                          f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1)")
+    mat, geo = config["material"], config["geometry"]
+    E_star = mat["E"] / (1.0 - mat["nu"] ** 2)
+    adh["T_max"] = float(dugdale_stress_for_lambda(lam, geo["R"] * geo["L0"], E_star, adh["W_adh"]))
 
 
 def _check_three_d(config: Mapping) -> None:
@@ -37,11 +59,12 @@ def _check_locking(config: Mapping) -> None:
     """The displacement formulation locks as nu -> 0.5; the mixed one (Q2/P1) does not, and needs Q2."""
     nu, element, formulation = config["material"]["nu"], config["mesh"]["element"], config["mesh"]["formulation"]
     if formulation == "mixed":
-        if element != "Q2":
-            raise ConfigError(f"mesh.formulation = mixed needs mesh.element = Q2, not {element} (Q2/P1)")
+        if element == "Q1":
+            raise ConfigError("mesh.formulation = mixed needs mesh.element = Q2 (Q2/P1) or H1 (H1/P0), not Q1")
         return
     if nu == 0.5:
-        raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2")
+        raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2 "
+                          "or H1")
     if nu > LOCKING_NU[element] and config["limits"]["refuse_locking"]:
         q2 = f" or mesh.element = Q2 (up to nu = {LOCKING_NU['Q2']})" if element == "Q1" else ""
         advice = (f"use mesh.formulation = mixed with mesh.element = Q2 (Q2/P1, free of locking up to nu = 0.5){q2}"

@@ -1,10 +1,13 @@
-"""The mixed Q2/P1 bulk: free of volumetric locking up to nu = 0.5, the incompressible limit included.
+"""The mixed bulk: free of volumetric locking up to nu = 0.5, the incompressible limit included.
 
-Three-field Hu-Washizu form (Simo, Taylor and Pister 1985; Simo and Taylor 1991): Q2 displacements, and a
+Three-field Hu-Washizu form (Simo, Taylor and Pister 1985; Simo and Taylor 1991). In 2D: Q2 displacements, and a
 dilatation theta and a pressure p that are linear in each cell and discontinuous between cells (P1 in the
-reference coordinates, basis 1, (X - X_c)/h_c, (Y - Y_c)/h_c). Q2/P1 satisfies the inf-sup condition (Boffi,
-Brezzi and Fortin 2013, section 8.6.3). Both fields are condensed cell by cell: theta is the L2 projection of
-J = det F onto P1, p the projection of U'(theta), so the global system stays displacement-only.
+reference coordinates, basis 1, (X - X_c)/h_c, (Y - Y_c)/h_c); Q2/P1 satisfies the inf-sup condition (Boffi,
+Brezzi and Fortin 2013, section 8.6.3). In 3D: trilinear H1 displacements with theta and p constant in each cell
+(H1/P0, the mean dilatation method of Nagtegaal, Parks and Rice 1974 and Simo, Taylor and Pister 1985: free of
+locking, not inf-sup stable, its pressure may checkerboard). Both fields are condensed cell by cell: theta is the
+L2 projection of J = det F onto the pressure space, p the projection of U'(theta), so the global system stays
+displacement-only.
 
 The energy is the neo-Hooke law of :mod:`capslide.laws.material` with J replaced by theta in its volumetric part:
 W = mu/2 (I1 - 3 - 2 ln J) + U(theta), U(theta) = Lambda/4 (theta^2 - 1 - 2 ln theta). The first Piola stress is
@@ -22,7 +25,7 @@ import numpy as np
 
 from ..laws import material
 from .assembly import BulkForm
-from .element import QUADS
+from .element import CELLS
 from .mesh import Mesh
 
 __all__ = ["MixedBulkForm", "PENALTY_OVER_MU", "VOLUME_TOLERANCE"]
@@ -31,27 +34,34 @@ PENALTY_OVER_MU = 1e2  # kappa / mu of the augmented Lagrangian at nu = 0.5
 VOLUME_TOLERANCE = 1e-10  # max |theta - 1| at which Uzawa's iteration stops (nu = 0.5)
 
 
-class MixedBulkForm(BulkForm):
-    """Internal forces and tangent of the Q2/P1 neo-Hooke bulk; ``lam`` may be ``inf`` (incompressible).
+PRESSURE_SPACE = {"Q2": "P1", "H1": "P0"}  # the mixed pairs: Q2/P1 (2D), H1/P0 (3D)
 
-    Every evaluation takes ``multiplier``, the augmented Lagrangian's pressure multiplier (n_cells, 3) as P1
-    coefficients (E), used only when ``lam`` is infinite (None = zero).
+
+class MixedBulkForm(BulkForm):
+    """Internal forces and tangent of the Q2/P1 (2D) or H1/P0 (3D) neo-Hooke bulk; ``lam`` may be ``inf``
+    (incompressible).
+
+    Every evaluation takes ``multiplier``, the augmented Lagrangian's pressure multiplier (n_cells, m) as the
+    pressure space's coefficients (E; m = 3 for P1, 1 for P0), used only when ``lam`` is infinite (None = zero).
     """
 
     def __init__(self, mesh: Mesh, lam: float, mu: float, quadrature: int | None = None):
-        if mesh.element != "Q2":
-            raise ValueError(f"the mixed formulation needs Q2 elements, not {mesh.element}")
+        if mesh.element not in PRESSURE_SPACE:
+            raise ValueError(f"the mixed formulation needs Q2 or H1 elements, not {mesh.element}")
         super().__init__(mesh, 0.0, mu, quadrature)  # the deviatoric part: neo-Hooke with Lambda = 0
         self.volumetric = float(lam)
         self.incompressible = not math.isfinite(self.volumetric)
         self.penalty = PENALTY_OVER_MU * mu
-        ref = QUADS[mesh.element]
+        ref = CELLS[mesh.element]
         N, _ = ref.shape(ref.gauss(quadrature)[0])
         Xq = np.einsum("qa,eai->eqi", N, mesh.nodes[mesh.cells])  # quadrature points, reference configuration
-        area = self.wdetJ.sum(axis=1)
-        centre = np.einsum("eq,eqi->ei", self.wdetJ, Xq) / area[:, None]
-        scaled = (Xq - centre[:, None, :]) / np.sqrt(area)[:, None, None]
-        self.Np = np.concatenate([np.ones(Xq.shape[:2] + (1,)), scaled], axis=-1)  # (e, q, 3)
+        if PRESSURE_SPACE[mesh.element] == "P0":
+            self.Np = np.ones(Xq.shape[:2] + (1,))  # (e, q, 1)
+        else:
+            area = self.wdetJ.sum(axis=1)
+            centre = np.einsum("eq,eqi->ei", self.wdetJ, Xq) / area[:, None]
+            scaled = (Xq - centre[:, None, :]) / np.sqrt(area)[:, None, None]
+            self.Np = np.concatenate([np.ones(Xq.shape[:2] + (1,)), scaled], axis=-1)  # (e, q, 3)
         M = np.einsum("eqm,eq,eqn->emn", self.Np, self.wdetJ, self.Np)
         self.M_inv = np.linalg.inv(M)
         # the projection onto P1 at the quadrature points: f -> Np M^-1 int Np f, (e, q, q)
@@ -59,11 +69,11 @@ class MixedBulkForm(BulkForm):
 
     # -- the condensed fields --------------------------------------------------
     def dilatation(self, u: np.ndarray) -> np.ndarray:
-        """theta, the P1 projection of J, at the quadrature points (e, q)."""
-        return self.project(material.det2(self.deformation_gradient(u)))
+        """theta, the projection of J onto the pressure space, at the quadrature points (e, q)."""
+        return self.project(material.det(self.deformation_gradient(u)))
 
     def project(self, f: np.ndarray) -> np.ndarray:
-        """The L2 projection onto P1 per cell of values at the quadrature points (e, q)."""
+        """The L2 projection onto the pressure space per cell of values at the quadrature points (e, q)."""
         return np.einsum("eqr,er->eq", self._projection, f)
 
     def _multiplier_at_points(self, multiplier: np.ndarray | None) -> np.ndarray:
@@ -88,7 +98,7 @@ class MixedBulkForm(BulkForm):
         return self.project(dU)
 
     def pressure_coefficients(self, u: np.ndarray, multiplier: np.ndarray | None = None) -> np.ndarray:
-        """p as P1 coefficients per cell (n_cells, 3): Uzawa's update of the multiplier."""
+        """p as the pressure space's coefficients per cell (n_cells, m): Uzawa's update of the multiplier."""
         _, dU, _ = self._volumetric(self.dilatation(u), multiplier)
         return np.einsum("emn,eqn,eq,eq->em", self.M_inv, self.Np, self.wdetJ, dU)
 
@@ -106,8 +116,8 @@ class MixedBulkForm(BulkForm):
     # -- forces and tangent ----------------------------------------------------
     def _stress(self, u, multiplier):
         F = self.deformation_gradient(u)
-        J = material.det2(F)
-        cof = J[..., None, None] * material.inv_transpose2(F, J)  # dJ/dF = J F^-T
+        J = material.det(F)
+        cof = J[..., None, None] * material.inv_transpose(F, J)  # dJ/dF = J F^-T
         theta = self.project(J)
         _, dU, d2U = self._volumetric(theta, multiplier)
         return F, J, cof, self.project(dU), d2U
@@ -118,7 +128,7 @@ class MixedBulkForm(BulkForm):
 
     def residual_and_tangent_data(self, u: np.ndarray, multiplier: np.ndarray | None = None):
         """(f_int, CSR data of the consistent tangent): the material part plus p d(J F^-T)/dF, plus the
-        condensed rank-3 block B^T M^-1 H M^-1 B of each cell (B_m = int Np_m dJ/du, H = int Np U'' Np^T)."""
+        condensed rank-m block B^T M^-1 H M^-1 B of each cell (B_m = int Np_m dJ/du, H = int Np U'' Np^T)."""
         F, J, cof, p, d2U = self._stress(u, multiplier)
         P, A = material.first_piola_and_tangent(F, 0.0, self.mu)
         P = P + p[..., None, None] * cof
@@ -126,8 +136,8 @@ class MixedBulkForm(BulkForm):
         # d(J G_iJ)/dF_kL = J (G_iJ G_kL - G_iL G_kJ)
         GG = np.einsum("eqiJ,eqkL->eqiJkL", cof, G)
         A = A + p[..., None, None, None, None] * (GG - GG.transpose(0, 1, 2, 5, 4, 3))
-        e, q, a, _ = self.dN.shape
-        B = np.einsum("eqm,eq,eqiJ,eqaJ->emai", self.Np, self.wdetJ, cof, self.dN).reshape(e, 3, 2 * a)
+        e, q, a, d = self.dN.shape
+        B = np.einsum("eqm,eq,eqiJ,eqaJ->emai", self.Np, self.wdetJ, cof, self.dN).reshape(e, self.Np.shape[-1], d * a)
         H = np.einsum("eqm,eq,eqn->emn", self.Np, self.wdetJ * d2U, self.Np)
         D = self.M_inv @ H @ self.M_inv
         K = self.element_tangents(A) + np.swapaxes(B, 1, 2) @ D @ B
@@ -138,7 +148,7 @@ class MixedBulkForm(BulkForm):
         """Total strain energy per unit width (E L0^2); at nu = 0.5 with the augmented Lagrangian's terms (zero
         once theta = 1)."""
         F = self.deformation_gradient(u)
-        U, _, _ = self._volumetric(self.project(material.det2(F)), multiplier)
+        U, _, _ = self._volumetric(self.project(material.det(F)), multiplier)
         return float(np.sum((material.strain_energy_density(F, 0.0, self.mu) + U) * self.wdetJ))
 
     def min_jacobian(self, u: np.ndarray) -> float:

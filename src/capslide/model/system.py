@@ -208,7 +208,7 @@ class CapModel:
                   "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (self.dim,),
                   "snapshot_u": (self.mesh.n_nodes, self.dim), "snapshot_I1_sigma": (self.mesh.n_cells,)}
         if self.params.mesh.formulation == "mixed":
-            shapes["pressure_multiplier"] = (self.mesh.n_cells, 3)
+            shapes["pressure_multiplier"] = (self.mesh.n_cells, self.bulk.Np.shape[-1])
         if self.branches is not None:
             qp = self.bulk.wdetJ.shape
             shapes.update(viscous_networks=(*qp, len(self.branches.g), 2, 2), viscous_c_inv=(*qp, 2, 2))

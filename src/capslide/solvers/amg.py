@@ -45,6 +45,11 @@ PYAMG_DEFAULTS = {"max_coarse": 500}
 # the multigrid cycle of the preconditioner: a W-cycle (symmetric, so CG applies), measured against the V-cycle
 # capslide ran before (the last two columns of benchmarks/amg_scaling.py)
 CYCLE = "W"
+# 3D (BSR 3x3, six rigid-body modes) takes the same SETTINGS and W-cycle. pyamg's defaults with a direct coarse
+# solve and V-cycles took more CG iterations on the sphere's H1 meshes (benchmarks/amg_sphere.py, nu = 0.4: 22
+# against 16 at 82k DOF, 59 against 31 at 842k) and less time for one setup and solve (2.6 s against 5.4 s at 82k,
+# 53 s against 101 s at 842k), but more in the load path, where the hierarchy is reused: the sphere scene's coarse
+# case took 188 s with them against 165 s (14k DOF; docs/three_d.md)
 
 
 @contextmanager

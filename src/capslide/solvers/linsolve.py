@@ -288,7 +288,7 @@ def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | Non
     """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes, and ``exact_dofs``, e.g. those
     of the poorly shaped cells), 'lu_krylov' (its factors from ``factorization``: 'superlu' or 'pardiso') or
     'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
-    if kind == "amg":  # BSR blocks of the node's DOFs: as many as the near-null space's dimension (3 modes: 2D)
+    if kind == "amg":  # BSR blocks of the node's DOFs: 3 in 3D (six rigid-body modes), 2 in 2D (three)
         block = 3 if near_null_space is not None and near_null_space.shape[1] == 6 else 2
         return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol, block_size=block)
     if kind == "lu_krylov":
