@@ -50,6 +50,7 @@ localrules:
     effective_config,
     stability,
     verification,
+    verification3d,
     convergence,
     options,
     experiment,

@@ -22,8 +22,6 @@ def derive_from_maugis_lambda(config: dict) -> None:
     """In place: adhesion.T_max from adhesion.maugis_lambda (the sphere's Maugis parameter at the configuration's
     R, E, nu and W_adh; Maugis 1992, in Johnson and Greenwood's notation), or a ConfigError when T_max is missing,
     set twice, or lambda is given for a 2D cap (whose Maugis parameter is another)."""
-    from .laws.sphere import dugdale_stress_for_lambda
-
     adh, lam = config["adhesion"], config["adhesion"]["maugis_lambda"]
     if lam is None:
         if "T_max" not in adh:
@@ -36,8 +34,10 @@ def derive_from_maugis_lambda(config: dict) -> None:
         raise ConfigError(f"adhesion.maugis_lambda = {lam!r} is not allowed with mesh.element = "
                           f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1)")
     mat, geo = config["material"], config["geometry"]
-    E_star = mat["E"] / (1.0 - mat["nu"] ** 2)
-    adh["T_max"] = float(dugdale_stress_for_lambda(lam, geo["R"] * geo["L0"], E_star, adh["W_adh"]))
+    K = 4.0 / 3.0 * mat["E"] / (1.0 - mat["nu"] ** 2)
+    # lambda = 2 T_max (R / (pi W K^2))^(1/3), solved for T_max (laws.sphere.dugdale_stress_for_lambda; this layer
+    # sits below laws/, and tests/test_verification_3d.py checks the round trip through laws.sphere)
+    adh["T_max"] = float(lam / (2.0 * (geo["R"] * geo["L0"] / (math.pi * adh["W_adh"] * K**2)) ** (1.0 / 3.0)))
 
 
 def _check_three_d(config: Mapping) -> None:

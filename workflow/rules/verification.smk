@@ -54,3 +54,33 @@ rule verification_figure:
         tables=lambda wildcards, input: " ".join(f"--table {t}" for t in input),
     shell:
         f"{THREADS_ENV} {CAPSLIDE} figure verification {{params.tables}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"
+
+
+# snakemake --cores 2 verification3d: the 3D sphere against the Hertz and Maugis-Dugdale spheres (docs/three_d.md).
+VERIFICATION_3D_SCENES = ["sphere_hertz", "sphere_md3", "sphere_md5"]
+
+
+rule verification3d:
+    input:
+        expand(result("verification3d/{scene}.csv"), scene=VERIFICATION_3D_SCENES),
+
+
+rule verify_scene_3d:
+    input:
+        "config/scenes/{scene}.yaml",
+    output:
+        result("verification3d/{scene}.csv"),
+    log:
+        logged("verification3d/{scene}.log"),
+    benchmark:
+        result("benchmarks/verification3d/{scene}.tsv")
+    wildcard_constraints:
+        scene="|".join(VERIFICATION_3D_SCENES),
+    conda:
+        ENV
+    threads: 1
+    resources:
+        mem_mb=6000,
+        runtime=180,
+    shell:
+        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q -o {{output}} > {{log}} 2>&1"

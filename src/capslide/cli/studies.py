@@ -11,7 +11,7 @@ import yaml
 
 from ..config import ConfigError
 from ..states import Status
-from .common import EXIT_STATUS, InputError, check_outputs, csv_text, parameters, write_text_atomic
+from .common import EXIT_STATUS, InputError, check_outputs, config_sources, csv_text, parameters, write_text_atomic
 
 __all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_experiment", "cmd_pull_off",
            "read_spec"]
@@ -48,6 +48,10 @@ def cmd_verify(args) -> int:
                          "compressive (P > 0; at P <= 0 a Hertz contact has no width to compare)")
     (output,) = check_outputs([args.output], {"csv"})
     progress = None if args.quiet else ProgressDisplay()
+    if params.mesh.element == "H1":  # the sphere's closed forms; rows named by the scene (its file)
+        from ..studies.verification_3d import sphere_sweep as sweep
+
+        scene = args.scene or Path(config_sources(args)[-1]).stem
     try:
         rows = sweep(params, scene, progress=progress)
     except VerificationFailed as err:
@@ -57,7 +61,9 @@ def cmd_verify(args) -> int:
         progress.close()
     write_text_atomic(output, csv_text(table_rows(rows), TABLE_COLUMNS))
     lam = rows[0].extra.get("maugis_lambda")
-    if lam is not None:
+    if lam is not None and "jkr_valid" not in rows[0].extra:
+        print(f"Maugis parameter lambda = {lam}: compared with the Maugis-Dugdale sphere (JKR in the extra column)")
+    elif lam is not None:
         valid = rows[0].extra["jkr_valid"] == "yes"
         print(f"Maugis parameter lambda = {lam}: the JKR closed form is "
               + ("a valid reference" if valid else f"NOT a valid reference (needs lambda >= {MAUGIS_JKR:g}); "

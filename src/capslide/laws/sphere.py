@@ -25,7 +25,8 @@ from scipy.optimize import brentq, minimize_scalar
 
 __all__ = ["hertz_sphere_radius", "hertz_sphere_peak_pressure", "hertz_sphere_approach", "maugis_parameter_sphere",
            "dugdale_stress_for_lambda",
-           "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales", "jkr_radius"]
+           "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales",
+           "jkr_radius", "md_radius"]
 
 
 def hertz_sphere_radius(P, R: float, E_star: float):
@@ -124,3 +125,15 @@ def jkr_radius(P):
     Roberts 1971, in Johnson and Greenwood's variables)."""
     t = 0.5 * (math.sqrt(6.0) + np.sqrt(6.0 + 4.0 * np.asarray(P, dtype=float)))
     return t ** (2.0 / 3.0)
+
+
+def md_radius(P, lam: float) -> float:
+    """The dimensionless Maugis-Dugdale contact radius A on the stable branch (beyond the pull-off radius) at the
+    load P_bar (compressive positive, at least the pull-off load)."""
+    P_c, a_c = md_pull_off(lam)
+    if P < P_c:
+        raise ValueError(f"P_bar = {P:g} is beyond the pull-off load {P_c:.6g}: no contact")
+    hi = 2.0
+    while float(md_load(hi, lam)) < P:
+        hi *= 2.0
+    return brentq(lambda a: float(md_load(a, lam)) - P, a_c, hi, xtol=1e-13, rtol=1e-13)

@@ -32,12 +32,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..io.reading import ResultFileError
-from ..laws import analytic, contact
+from ..laws import analytic, contact, sphere
 from ..loadpath.cap import load_path, spread_constraint, spread_control
 from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
 from ..loadpath.measures import StepRecord, interval_measures, measure
 from ..model import cost
-from ..model.build import build_model, cap_mesh_spec
+from ..model.build import build_model, cap_mesh_spec, mesh_spec
 from ..model.constraints import FixedEdgeGap, FixedForce
 from ..model.system import CapModel, History
 from ..params import Parameters
@@ -138,7 +138,7 @@ def sweep(params: Parameters, scene: str | None = None, progress=None) -> list[V
     return rows
 
 
-class _Recording:
+class Recording:
     """Keeps the records of the steps of a sweep and shows each to ``progress`` (a callable of a record)."""
 
     def __init__(self, records: list[StepRecord], progress):
@@ -150,7 +150,7 @@ class _Recording:
             self.progress(step.record)
 
 
-def _force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, LegEnd]:
+def force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, LegEnd]:
     """Force control from the state x (at the normal force of the last record) to ``Fn``."""
     L = model.params.loading
     control = StepControl(L.force_step, L.min_force_step, L.force_step, max_cutbacks=L.max_cutbacks)
@@ -161,27 +161,37 @@ def _force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) ->
     return loop, end
 
 
+def pull_off_reference(params: Parameters) -> float:
+    """The closed-form pull-off load P_c (compressive positive, so negative) of a scene: the JKR cylinder in 2D (per
+    unit width), the Maugis-Dugdale sphere at the scene's Maugis parameter in 3D (:mod:`capslide.laws.sphere`)."""
+    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+    R, w = params.geometry.R, params.adhesion.W_adh
+    if params.mesh.element == "H1":
+        lam = sphere.maugis_parameter_sphere(R, E_star, w, params.adhesion.T_max)
+        return sphere.md_pull_off(lam)[0] * math.pi * w * R
+    return analytic.jkr_cylinder_pull_off(R, E_star, w)
+
+
 def force_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress,
                            adhesive: bool) -> tuple[dict[float, StepRecord], float, str]:
     """Approach, then force control through the loads (largest compressive first); with adhesion, retract
     past the closed-form pull-off: the largest tensile force with an equilibrium is the FE pull-off."""
     g = model.params.geometry
-    observe = _Recording(records, progress)
+    observe = Recording(records, progress)
     end = drain(load_path(model, stop_before="preload"), observe)
     if end.status != Status.COMPLETED:
         raise VerificationFailed(end.reason)
     x, states = end.x, {}
     for P in loads:
-        loop, leg = _force_leg(model, x, -P, observe)
+        loop, leg = force_leg(model, x, -P, observe)
         if leg.status != Status.COMPLETED:
             raise VerificationFailed(f"at P = {P}: {leg.reason}")
         x, states[P] = loop.x, records[-1]
     if not adhesive:
         return states, math.nan, ""
-    E_star = analytic.effective_modulus(model.params.material.E, model.params.material.nu)
-    P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, model.params.adhesion.W_adh)
-    _, leg = _force_leg(model, x, -1.5 * P_c, observe,
-                        ends=lambda r: Status.DETACHED if r.area < 1e-3 * g.R else None)
+    P_c = pull_off_reference(model.params)
+    lost = 1e-3 * g.R ** (model.dim - 1)  # a contact length (2D) or area (3D) this small is lost
+    _, leg = force_leg(model, x, -1.5 * P_c, observe, ends=lambda r: Status.DETACHED if r.area < lost else None)
     return states, max(r.Fn for r in records), leg.status.label
 
 
@@ -192,7 +202,7 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     largest tensile force) just beyond each load in turn, where :func:`_equilibrium_at_load` finds the equilibrium
     at exactly that load between the two bracketing steps. The largest tensile force along the path is the FE
     pull-off (under force control there is no equilibrium beyond it)."""
-    observe = _Recording(records, progress)
+    observe = Recording(records, progress)
     end = drain(load_path(model, stop_before="spread"), observe)
     if end.status != Status.COMPLETED:
         raise VerificationFailed(end.reason)
@@ -235,7 +245,7 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
     t0 = time.perf_counter()
     p = model.params
     E_star = analytic.effective_modulus(p.material.E, p.material.nu)
-    tol = 1e-4 * abs(analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, p.adhesion.W_adh))
+    tol = 1e-4 * abs(pull_off_reference(p))
     opts = newton_options(model)
     (X0, P0, x0), (X1, P1, x1) = bracket
     if not P0 < P <= P1:
@@ -243,7 +253,7 @@ def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepR
         raise VerificationFailed(f"at P = {P}: the load along the edge path is not monotone here ({P0:.6g}, {P1:.6g}); "
                                  f"a mesh too coarse for the cohesive zone traps the edge (E* w / T_max^2 = "
                                  f"{E_star * a.W_adh / a.T_max ** 2:.3g} L0, surface elements "
-                                 f"{cap_mesh_spec(p).h0:.3g} L0)")
+                                 f"{mesh_spec(p).h0:.3g} L0)")
     f0, f1 = P0 - P, P1 - P  # f0 < 0 <= f1: the load grows with X on the stable branch
     w0, w1 = f0, f1  # the values the interpolation uses (Illinois: an end kept twice gets half its value)
     x, side, its, lin = x1, 0, 0, 0

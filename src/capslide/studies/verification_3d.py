@@ -1,0 +1,113 @@
+"""Normal-contact verification of the 3D sphere (mesh.element = H1) against the Hertz and Maugis-Dugdale spheres.
+
+The same sweeps as the 2D line contacts (:mod:`capslide.studies.verification`: force control through the loads, or
+one edge-controlled path through the pull-off point with an exact force-controlled equilibrium at each load), with
+the sphere's closed forms (:mod:`capslide.laws.sphere`). Loads P = -Fn are the whole sphere's (E L0^2, compressive
+positive). At each load:
+
+* Hertz (repulsion only; the sphere is first pressed under height control to half the Hertz approach of the
+  smallest load, then force control goes through the loads): the contact radius from the pressure's second moment
+  (a^2 = 5/2 int p r^2 dA / int p dA, exact for the Hertz pressure), the radius sqrt(A / pi) of the compressive area
+  (Tn >= 0, from the nodal gaps: first order in the mesh size), and the largest surface-point pressure against p0;
+* adhesive: the radius of the contact area (g_n <= g_max, where the tension peaks: the edge of the Maugis-Dugdale
+  contact, where the Dugdale stress starts) against the Maugis-Dugdale radius at P and the scene's lambda; the load
+  the Maugis-Dugdale solution gives at the FE radius, relative to |P_c|; and the pull-off (the largest tensile force
+  with an equilibrium) against Maugis-Dugdale's, with JKR's (lambda -> infinity) in the row's extra.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..laws import analytic, sphere
+from ..loadpath.continuation import newton_options, solve_constrained
+from ..loadpath.measures import StepRecord, measure
+from ..model import cost
+from ..model.build import build_model, mesh_spec
+from ..model.constraints import FixedHeight
+from ..model.system import CapModel, History
+from ..params import Parameters
+from ..states import Phase
+from .verification import (
+    Recording,
+    VerificationFailed,
+    VerificationRow,
+    edge_controlled_sweep,
+    force_controlled_sweep,
+    force_leg,
+    pull_off_reference,
+)
+
+__all__ = ["sphere_sweep"]
+
+
+def sphere_sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
+    """The verification rows of a 3D scene (Hertz, or the adhesive sphere against Maugis-Dugdale)."""
+    cost.check(params, mesh_spec(params))
+    model = build_model(params)
+    a, R = params.adhesion, params.geometry.R
+    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+    adhesive = not params.contact.repulsion_only
+    loads = sorted(params.verification.loads, reverse=True)
+    records = []
+    if not adhesive:
+        states, F_max, how = _hertz_sweep(model, loads, records, progress)
+    elif params.loading.approach_edge_step > 0.0:
+        states, F_max, how = edge_controlled_sweep(model, loads, records, progress)
+    else:
+        states, F_max, how = force_controlled_sweep(model, loads, records, progress, adhesive)
+    rows: list[VerificationRow] = []
+    if not adhesive:
+        weight = model.contact.quad.weight.ravel()
+        for P in loads:
+            rec = states[P]
+            a_hertz = float(sphere.hertz_sphere_radius(P, R, E_star))
+            p = np.maximum(rec.traction_n, 0.0) * weight
+            a_moment = math.sqrt(2.5 * np.sum(p * (rec.x_surface**2 + rec.y_surface**2)) / np.sum(p))
+            rows.append(VerificationRow(scene, "radius", P, a_moment, a_hertz))
+            rows.append(VerificationRow(scene, "radius_area", P, math.sqrt(rec.area_compressive / math.pi), a_hertz))
+            rows.append(VerificationRow(scene, "peak_pressure", P, float(rec.traction_n.max()),
+                                        float(sphere.hertz_sphere_peak_pressure(P, R, E_star))))
+        return rows
+    lam = sphere.maugis_parameter_sphere(R, E_star, a.W_adh, a.T_max)
+    scales = sphere.md_scales(R, E_star, a.W_adh)
+    force, length = scales["load"], scales["radius"]
+    P_c = pull_off_reference(params)
+    extra = {"maugis_lambda": round(lam, 3)}
+    for P in loads:
+        a_fe = math.sqrt(states[P].area / math.pi)
+        rows.append(VerificationRow(scene, "radius", P, a_fe, sphere.md_radius(P / force, lam) * length,
+                                    {**extra, "jkr": float(sphere.jkr_radius(P / force)) * length}))
+        P_md = float(sphere.md_load(a_fe / length, lam)) * force
+        rows.append(VerificationRow(scene, "load_at_radius", P, P, P_md,
+                                    {**extra, "radius": a_fe, "relative_to": abs(P_c)}))
+    rows.append(VerificationRow(scene, "pull_off", math.nan, -F_max, P_c, {**extra, "status": how, "jkr": -1.5 * force}))
+    return rows
+
+
+def _hertz_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress):
+    """Press the undeformed sphere under height control by half the Hertz approach a^2 / R of the smallest load
+    (a stiff repulsive law gives force control no stiffness to start from at first touch), then force control
+    through the loads, largest first."""
+    p = model.params
+    R, E_star = p.geometry.R, analytic.effective_modulus(p.material.E, p.material.nu)
+    depth = 0.5 * float(sphere.hertz_sphere_radius(min(loads), R, E_star)) ** 2 / R
+    h = p.geometry.H + p.adhesion.g_eq - depth
+    t = time.perf_counter()
+    res, history = solve_constrained(model, FixedHeight(h), History(), np.concatenate([np.zeros(model.n_dofs), [h]]),
+                                     newton_options(model))
+    if not res.converged:
+        raise VerificationFailed(f"pressing by {depth:.4g} L0: {res.reason}")
+    observe = Recording(records, progress)
+    records.append(measure(model, res.x, history, Phase.PRELOAD, 0.0, res.iterations, res.linear_iterations,
+                           time.perf_counter() - t))
+    x, states = res.x, {}
+    for P in loads:
+        loop, leg = force_leg(model, x, -P, observe)
+        if leg.status.label != "completed":
+            raise VerificationFailed(f"at P = {P}: {leg.reason}")
+        x, states[P] = loop.x, records[-1]
+    return states, math.nan, ""
