@@ -51,6 +51,7 @@ localrules:
     stability,
     verification,
     verification3d,
+    sphere,
     convergence,
     options,
     experiment,

@@ -89,6 +89,17 @@ def test_the_sphere_scene_reaches_zero_load_in_a_3d_file(sphere_case):
     assert {"Z_node", "Y_reference"} <= set(ds.coords)
 
 
+def test_the_sphere_figures_draw_from_the_file(sphere_case, tmp_path):
+    from capslide.figures import SPHERE_FIGURES, save
+
+    params = Parameters.from_config(capslide.config_of(sphere_case))
+    for name, draw in SPHERE_FIGURES.items():
+        fig = draw(sphere_case, params)
+        assert fig.axes[0].get_xlabel()
+        save(fig, [tmp_path / f"{name}.png"])
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+
+
 def test_maugis_lambda_sets_t_max():
     cfg = load_config(["sphere"])
     del cfg["adhesion"]["T_max"]
@@ -99,6 +110,7 @@ def test_maugis_lambda_sets_t_max():
     assert sphere.maugis_parameter_sphere(g["R"] * g["L0"], E_star, a["W_adh"], a["T_max"]) == pytest.approx(3.0)
     with pytest.raises(ConfigError, match="adhesion.T_max = .* is not allowed with adhesion.maugis_lambda"):
         validate(load_config(["sphere"], ["adhesion.maugis_lambda=3"]))
+    assert validate(out) == out  # a validated configuration (a result file's) validates as itself
     cap = load_config(["cap"])
     del cap["adhesion"]["T_max"]
     cap["adhesion"]["maugis_lambda"] = 3.0

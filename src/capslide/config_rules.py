@@ -27,9 +27,6 @@ def derive_from_maugis_lambda(config: dict) -> None:
         if "T_max" not in adh:
             raise ConfigError("missing key 'adhesion.T_max' (or set it through adhesion.maugis_lambda, 3D only)")
         return
-    if "T_max" in adh:
-        raise ConfigError(f"adhesion.T_max = {adh['T_max']!r} is not allowed with adhesion.maugis_lambda = {lam!r}: "
-                          "lambda sets T_max (give one of them)")
     if config["mesh"]["element"] != "H1":
         raise ConfigError(f"adhesion.maugis_lambda = {lam!r} is not allowed with mesh.element = "
                           f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1)")
@@ -37,7 +34,11 @@ def derive_from_maugis_lambda(config: dict) -> None:
     K = 4.0 / 3.0 * mat["E"] / (1.0 - mat["nu"] ** 2)
     # lambda = 2 T_max (R / (pi W K^2))^(1/3), solved for T_max (laws.sphere.dugdale_stress_for_lambda; this layer
     # sits below laws/, and tests/test_verification_3d.py checks the round trip through laws.sphere)
-    adh["T_max"] = float(lam / (2.0 * (geo["R"] * geo["L0"] / (math.pi * adh["W_adh"] * K**2)) ** (1.0 / 3.0)))
+    T_max = float(lam / (2.0 * (geo["R"] * geo["L0"] / (math.pi * adh["W_adh"] * K**2)) ** (1.0 / 3.0)))
+    if "T_max" in adh and not math.isclose(adh["T_max"], T_max, rel_tol=1e-12):  # equal: a file's validated config
+        raise ConfigError(f"adhesion.T_max = {adh['T_max']!r} is not allowed with adhesion.maugis_lambda = {lam!r}: "
+                          "lambda sets T_max (give one of them)")
+    adh["T_max"] = T_max
 
 
 def _check_three_d(config: Mapping) -> None:

@@ -84,3 +84,50 @@ rule verify_scene_3d:
         runtime=180,
     shell:
         f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q -o {{output}} > {{log}} 2>&1"
+
+
+# snakemake --cores 2 sphere: the sphere scene (3D, normal contact) at its fast preset, checkpointed (--resume
+# continues an interrupted run), and its figures: the normal traction over the contact, the load against the radius.
+rule sphere:
+    input:
+        result("sphere/sphere_Tn.pdf"),
+        result("sphere/sphere_Pa.pdf"),
+
+
+rule sphere_case:
+    input:
+        "config/scenes/sphere.yaml",
+    output:
+        result("sphere/sphere.nc"),
+    log:
+        logged("sphere/sphere.log"),
+    benchmark:
+        result("benchmarks/sphere/sphere.tsv")
+    conda:
+        ENV
+    threads: 1
+    resources:
+        mem_mb=4000,
+        runtime=120,
+    shell:
+        f"{THREADS_ENV} {CAPSLIDE} run --resume {{input}} -q -o {{output}} > {{log}} 2>&1"
+
+
+rule sphere_figure:
+    input:
+        result("sphere/sphere.nc"),
+    output:
+        pdf=result("sphere/{figure}.pdf"),
+        png=result("sphere/{figure}.png"),
+    log:
+        logged("sphere/{figure}.log"),
+    wildcard_constraints:
+        figure="sphere_Tn|sphere_Pa",
+    conda:
+        ENV
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    shell:
+        f"{THREADS_ENV} {CAPSLIDE} figure {{wildcards.figure}} --input {{input}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"

@@ -12,7 +12,8 @@ __all__ = ["cmd_figure", "FIGURE_HELP"]
 
 FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from CONFIG, cap_setup from "
                "--input MESH.nc, cap_PxAndAc, cap_PxOverAc and cap_FtOverA from --input CASES.nc, cap_Aczoom and cap_xn from "
-               "--input CASE.nc, verification from --table FILE.csv")
+               "--input CASE.nc, sphere_Tn and sphere_Pa from --input CASE.nc of a 3D case, verification from --table "
+               "FILE.csv")
 
 
 def _tau_DI(cases) -> float | None:
@@ -29,7 +30,7 @@ def cmd_figure(args) -> int:
     from .. import figures  # matplotlib only when a figure is drawn
 
     known = {**figures.MODEL_FIGURES, **figures.MESH_FIGURES, **figures.TABLE_FIGURES, **figures.CASES_FIGURES,
-             **figures.CASE_FIGURES}
+             **figures.CASE_FIGURES, **figures.SPHERE_FIGURES}
     if args.name not in known:
         raise InputError(f"unknown figure '{args.name}' (allowed: {', '.join(known)})")
     outputs = check_outputs(args.output, {"pdf", "png", "svg"})
@@ -51,6 +52,15 @@ def cmd_figure(args) -> int:
             raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs them: "
                              "output.snapshot_ubar)")
         draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
+    elif args.name in figures.SPHERE_FIGURES:
+        if not args.input:
+            raise InputError(f"figure '{args.name}' needs --input CASE.nc (a 3D case from capslide run)")
+        case = open_result(args.input, "case")
+        if "Z_node" not in case.coords or "traction_n" not in case:
+            raise InputError(f"'{args.input}' is not a 3D case with surface profiles (figure '{args.name}' needs "
+                             "mesh.element = H1 and output.surface_profiles)")
+        params = Parameters.from_config(config_of(args.input))
+        draw = lambda: figures.SPHERE_FIGURES[args.name](case, params)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
         from ..studies.verification import read_tables
 
