@@ -38,7 +38,8 @@ def test_a_scene_case_runs_from_outside_the_clone(tmp_path):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--scene", "capp"], "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_hertz, sphere_md3, sphere_md5); did you mean 'cap'?"),
+    (["--scene", "capp"], "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_hertz, sphere_md3, "
+                          "sphere_md5); did you mean 'cap'?"),
     ([], "no configuration: give a config file or a packaged scene"),
     (["--scene", "cap", "--set", "friction.s_cutt=1"], "did you mean 'friction.s_cut'?"),
 ])
@@ -66,7 +67,8 @@ def test_the_wheel_ships_the_scenes(tmp_path):
     assert res.returncode == 0, res.stderr[-2000:]
     (wheel,) = tmp_path.glob("capslide-*.whl")
     names = set(zipfile.ZipFile(wheel).namelist())
-    for name in ("cap", "hertz", "jkr", "sphere", "sphere_hertz", "experiment", "presets/fast", "presets/paper", "presets/reference"):
+    for name in ("cap", "hertz", "jkr", "sphere", "sphere_hertz", "experiment", "presets/fast", "presets/paper",
+                 "presets/reference"):
         assert f"capslide/scenes/{name}.yaml" in names, name
     zipfile.ZipFile(wheel).extractall(tmp_path / "site")
     check = ("import capslide; assert capslide.__file__.startswith(%r); "

@@ -87,6 +87,10 @@ def test_the_sphere_scene_reaches_zero_load_in_a_3d_file(sphere_case):
     assert abs(float(last.x_right - last.x_left) / 2 - a) < 0.1 * a  # a disc: its area and its diameter agree
     assert abs(float(last.width_y) - float(last.x_right - last.x_left)) < 220 * 0.0045  # within one cell
     assert {"Z_node", "Y_reference"} <= set(ds.coords)
+    assert ds.sizes["snapshot_ubar"] == 1 and "w_node" in ds  # the preloaded state's fields (no slide)
+    apex = int(np.argmax(ds.Z_node.values))
+    gap = float(last.h) - (10.0 + float(ds.w_node.isel(snapshot_ubar=0, node=apex)))
+    assert 0.0 < gap < 0.11  # the apex in contact: its gap between 0 and g_max (0.101 L0) in the snapshot
 
 
 def test_the_sphere_figures_draw_from_the_file(sphere_case, tmp_path):

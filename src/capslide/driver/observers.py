@@ -58,17 +58,28 @@ class Snapshots(Observer):
     def __init__(self, model: CapModel, wanted, snapshots: list[Snapshot]):
         self.model, self.snapshots = model, snapshots
         self.at_start = any(b == 0.0 for b in wanted)
+        self._last: tuple | None = None  # the last converged state and its history
 
     def begin(self, state: PathState) -> None:
         """Take the snapshot at ubar = 0 now when the path starts where the slide starts (a normal state), unless
         it was taken before (a checkpoint saved there)."""
+        self._last = (state.x, state.history)
         if self._starts_slide(state) and not any(sn.ubar == 0.0 for sn in self.snapshots):
             self.snapshots.append(field_snapshot(self.model, state.x, 0.0, state.history))
+
+    def end(self, end):
+        """A path without a slide (loading.ubar_max = 0, the 3D normal contact) that completed: its last state is
+        the preloaded one that ubar = 0 stands for."""
+        if (self.at_start and end.status == Status.COMPLETED and self.model.params.loading.ubar_max == 0.0
+                and self._last is not None and not any(sn.ubar == 0.0 for sn in self.snapshots)):
+            self.snapshots.append(field_snapshot(self.model, self._last[0], 0.0, self._last[1]))
+        return end
 
     def _starts_slide(self, state: PathState) -> bool:
         return self.at_start and state.leg == LegName.SLIDE and state.loop is None
 
     def step(self, step):
+        self._last = (step.x, step.state.history)
         if self._starts_slide(step.state):  # this state starts the slide
             self.snapshots.append(field_snapshot(self.model, step.x, 0.0, step.state.history))
         if step.breakpoint is not None:

@@ -260,7 +260,6 @@ class CapModel:
 
     def strain_energy(self, x: np.ndarray, history: History, dt: float = 0.0) -> float:
         """The bulk's stored energy per unit width (E L0^2; in 3D E L0^3, the whole body's) at the end of a step of
-        dt seconds from ``history``:
-        the elastic part and the viscous branches'."""
+        dt seconds from ``history``: the elastic part and the viscous branches'."""
         W = self.contact.whole(self.bulk.strain_energy(x[:-1], history.pressure))
         return W if self.branches is None else W + self.branches.energy(x[:-1], history.networks, dt)
