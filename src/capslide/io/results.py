@@ -145,11 +145,10 @@ def mesh_dataset(mesh: Mesh, config: Mapping[str, Any] | None = None, history: s
     return ds
 
 
-def _attrs(name: str, units: Mapping[str, str], **values) -> dict:
-    """CF attributes of the catalog's variable ``name`` (:mod:`capslide.io.catalog`): its unit scaled by ``units``
-    (:func:`scaled_units`: 2D, or 3D when it has m2 areas), its description with ``values`` filled in."""
+def _attrs(name: str, units: Mapping[str, str], dim: int = 2, **values) -> dict:
+    """CF attributes of the catalog's variable ``name`` (:mod:`capslide.io.catalog`) in a case of dimension ``dim``:
+    its unit scaled by ``units`` (:func:`scaled_units`), its description with ``values`` filled in."""
     v = variable(name)
-    dim = 3 if units["area"].endswith("m2") else 2
     return quantity(v.long_name, units.get(v.unit, v.unit), v.normalization_in(dim),
                     v.description.format(**values) if values else v.description)
 
@@ -174,27 +173,27 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     n_pts = len(recs[0].gap) if recs else 0
     prof = lambda name, dt=float: (np.stack([getattr(r, name) for r in recs]).astype(dt)  # noqa: E731
                                    if recs else np.zeros((0, n_pts), dtype=dt))
-    data = {v.name: ("step", step(v.record, v.dtype), _attrs(v.name, u, area_gap=p.contact.area_gap))
+    data = {v.name: ("step", step(v.record, v.dtype), _attrs(v.name, u, d, area_gap=p.contact.area_gap))
             for v in recorded_step_variables() if v.present != "3d" or d == 3}
     area = step("area")
     data["Ft_over_area"] = ("step", np.divide(step("Ft"), area, out=np.full(len(recs), np.nan), where=area > 0),
-                            _attrs("Ft_over_area", u))
+                            _attrs("Ft_over_area", u, d))
     energies = case_energies(recs, mesh, p.mesh.surface_gauss_points)
-    data.update({name: ("step", energies[name], _attrs(name, u))
+    data.update({name: ("step", energies[name], _attrs(name, u, d))
                  for name in ("dissipation", "external_work", "energy_residual")})
     data.update({
-        "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float), _attrs("base_force_x", u)),
-        "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float), _attrs("base_force_y", u)),
+        "base_force_x": ("step", np.array([r.reaction[0] for r in recs], dtype=float), _attrs("base_force_x", u, d)),
+        "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float), _attrs("base_force_y", u, d)),
     })
     if d == 3:
-        data["base_force_z"] = ("step", np.array([r.reaction[2] for r in recs], dtype=float), _attrs("base_force_z", u))
+        data["base_force_z"] = ("step", np.array([r.reaction[2] for r in recs], dtype=float), _attrs("base_force_z", u, d))
     if p.output.surface_profiles:
-        data.update({name: (PROFILE, prof(variable(name).record), _attrs(name, u))
+        data.update({name: (PROFILE, prof(variable(name).record), _attrs(name, u, d))
                      for name in ("x_current", "y_current", "gap", "traction_n", "traction_t")})
         data["slip_state"] = (PROFILE, prof("slip_state", np.int8),
                               flag_attributes(SlipState, variable("slip_state").long_name))
         data.update(_slip_profiles(recs, prof("slip"), u))
-    data.update({name: ((), result.scalars[name], _attrs(name, u)) for name in case_scalars()})
+    data.update({name: ((), result.scalars[name], _attrs(name, u, d)) for name in case_scalars()})
     snaps = result.snapshots
     k, nn, nc = len(snaps), mesh.n_nodes, mesh.n_cells
     data.update({
@@ -213,8 +212,8 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
     coords = {
         "step": ("step", np.arange(len(recs), dtype=np.int32), quantity("converged load step", "1")),
         "phase": ("step", step("phase", np.int8), flag_attributes(Phase, variable("phase").long_name)),
-        "ubar": ("step", step("ubar"), _attrs("ubar", u)),
-        "h": ("step", step("h"), _attrs("h", u)),
+        "ubar": ("step", step("ubar"), _attrs("ubar", u, d)),
+        "h": ("step", step("h"), _attrs("h", u, d)),
         "X_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points) if recs else np.zeros(0),
                         quantity("reference x of the surface Gauss point", u["length"], "L0")),
         **({"Y_reference": ("surface_point", surface_reference_x(mesh, p.mesh.surface_gauss_points, 1) if recs else np.zeros(0),
@@ -226,7 +225,7 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         **({"Z_node": ("node", mesh.nodes[:, 2], quantity("reference z of the node", u["length"], "L0"))} if d == 3 else {}),
     }
     if p.loading.velocity is not None:  # time is tracked
-        coords["time"] = ("step", step("time"), _attrs("time", u))
+        coords["time"] = ("step", step("time"), _attrs("time", u, d))
     if p.material.prony_g:
         data["elastic_energy"][2]["long_name"] = "stored energy"
         data["elastic_energy"][2]["description"] = ("stored energy of the cap per unit width: the neo-Hooke part and "
