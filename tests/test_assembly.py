@@ -141,3 +141,24 @@ def test_deformation_gradient_cache_follows_the_state(distorted):
     assert not np.allclose(F1, F2)
     with pytest.raises(ValueError):
         F2[0, 0, 0, 0] = 5.0
+
+
+@pytest.mark.parametrize("mesh", [rectangle_mesh(4, 3, element="Q1"), rectangle_mesh(3, 2, element="Q2"),
+                                  CapMeshSpec(R=47.1, H=10.0, h0=0.5, band_half_width=5.0, element="Q2"), "H1"],
+                         ids=["Q1", "Q2", "Q2 cap", "H1"])
+def test_the_pattern_from_node_pairs_is_the_pattern_from_dof_blocks(mesh):
+    """SparsePattern.from_cells (node pairs, what BulkForm builds) gives from_blocks's arrays, the same to the
+    entry: the same CSR matrix and the same map from the element blocks."""
+    from capslide.fem.assembly import SparsePattern
+    from capslide.fem.hex_mesh import SphereCapSpec, sphere_cap_mesh
+
+    if isinstance(mesh, CapMeshSpec):
+        mesh = cap_mesh(mesh)
+    elif mesh == "H1":
+        mesh = sphere_cap_mesh(SphereCapSpec(R=47.1, H=10.0, h0=0.8, band_radius=4.0))
+    blocks = SparsePattern.from_blocks(cell_dofs(mesh.cells, mesh.dim), mesh.n_dofs)
+    pairs = SparsePattern.from_cells(mesh.cells, mesh.dim, mesh.n_nodes)
+    assert pairs.n == blocks.n
+    for name in ("indptr", "indices", "slot"):
+        np.testing.assert_array_equal(getattr(pairs, name), getattr(blocks, name))
+        assert getattr(pairs, name).dtype == getattr(blocks, name).dtype

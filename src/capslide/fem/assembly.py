@@ -56,6 +56,36 @@ class SparsePattern:
         np.cumsum(np.bincount(r, minlength=n), out=indptr[1:])
         return cls(n=n, indptr=indptr, indices=(uniq % n).astype(np.int32), slot=slot.ravel())
 
+    @classmethod
+    def from_cells(cls, cells: np.ndarray, dim: int, n_nodes: int) -> SparsePattern:
+        """The pattern of :meth:`from_blocks` for the cells' node-major DOF blocks (``cell_dofs(cells, dim)``), the same
+        arrays, built from the node pairs: dim^2 times fewer keys to sort (the peak memory of a 3D mesh's setup).
+
+        A node row I with neighbours J_1 < ... < J_m gives each of its dim DOF rows the columns dim J_k + c (k, then
+        c); the node pair of rank k in row I puts the DOF entry (I, i; J_k, c) at d^2 start(I) + i d m + k d + c."""
+        d = dim
+        e, a = cells.shape
+        keys = (np.repeat(cells, a, axis=1).astype(np.int64) * n_nodes + np.tile(cells, (1, a))).ravel()
+        pairs, pair_of = np.unique(keys, return_inverse=True)
+        row, col = pairs // n_nodes, pairs % n_nodes  # node I, node J
+        count = np.bincount(row, minlength=n_nodes)  # neighbours of each node
+        start = np.zeros(n_nodes + 1, dtype=np.int64)
+        np.cumsum(count, out=start[1:])
+        rank = np.arange(len(pairs)) - start[row]  # of each pair within its node row
+        row_len = np.repeat(d * count, d)  # DOF row d I + i has d m entries
+        indptr = np.zeros(d * n_nodes + 1, dtype=np.int64)
+        np.cumsum(row_len, out=indptr[1:])
+        i, c = np.arange(d)[:, None], np.arange(d)[None, :]
+        pos = (d * d * start[row])[:, None, None] + i * (d * count[row])[:, None, None] + (rank * d)[:, None, None] + c
+        indices = np.empty(len(pairs) * d * d, dtype=np.int32)
+        indices[pos.ravel()] = np.broadcast_to((d * col)[:, None, None] + c, pos.shape).ravel()
+        # slot of the element entry (a1, i; a2, c): the position of (I, i; J, c) for the pair (cells[a1], cells[a2])
+        p = pair_of.reshape(e, a, 1, a, 1)
+        pair_row = row[p]
+        slot = (d * d * start[pair_row] + i.reshape(1, 1, d, 1, 1) * d * count[pair_row] + rank[p] * d
+                + c.reshape(1, 1, 1, 1, d))
+        return cls(n=d * n_nodes, indptr=indptr, indices=indices, slot=slot.ravel())
+
     @property
     def nnz(self) -> int:
         return len(self.indices)
@@ -138,7 +168,7 @@ class BulkForm:
         self.mesh, self.lam, self.mu = mesh, lam, mu
         self.dofs = cell_dofs(mesh.cells, d)
         self.n_dofs = mesh.n_dofs
-        self.pattern = SparsePattern.from_blocks(self.dofs, self.n_dofs)
+        self.pattern = SparsePattern.from_cells(mesh.cells, d, mesh.n_nodes)
 
     def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
         """F = I + grad u at every quadrature point, (e, q, d, d), read-only.
