@@ -244,10 +244,13 @@ class BulkForm:
         K = self._tangents_abik(A)
         if K is not None:
             K = K.reshape(e, a, a, d, d).transpose(0, 1, 3, 2, 4)
-        else:  # two batched matmuls per quadrature point, no large static array
+        else:  # two batched matmuls per quadrature point, summed as they come: no array of all points' products
             At = A.transpose(0, 1, 3, 2, 4, 5).reshape(e, q, d, d**3)  # J, (i, k, L)
-            S = (self.dNw @ At).reshape(e, q, a * d * d, d)  # (a, i, k), L
-            K = (S @ np.swapaxes(self.dN, -1, -2)).sum(axis=1).reshape(e, a, d, d, a).transpose(0, 1, 2, 4, 3)
+            K = np.zeros((e, a * d * d, a))
+            for k in range(q):
+                S = (self.dNw[:, k] @ At[:, k]).reshape(e, a * d * d, d)  # (a, i, k), L
+                K += S @ np.swapaxes(self.dN[:, k], -1, -2)
+            K = K.reshape(e, a, d, d, a).transpose(0, 1, 2, 4, 3)
         return K.reshape(e, d * a, d * a)
 
     def residual_and_tangent_data(self, u: np.ndarray, multiplier: np.ndarray | None = None

@@ -43,6 +43,7 @@ class SphereCapSpec:
     band_radius: float  # radius of the refined contact band (reference, on the top surface)
     layer_growth: float = 1.25  # thickness ratio of a layer to the one above, in the band (it sets the layer count)
     ring_growth: float = 1.15  # width ratio of a ring to the one inside it, outside the band
+    max_layer_aspect: float | None = None  # thickest layer under the band / h0 (None: only max_size_over_H H)
     max_size_over_H: float = 0.25  # largest layer thickness / H
 
     def meridian(self) -> CapMeshSpec:
@@ -142,8 +143,15 @@ def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
     n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth)
     quads = 2 * n * n + 4 * n * (len(radii) - 1)
     points = (2 * n + 1) * (n + 1) + (4 * n + 1) * (len(radii) - 1)
-    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, spec.max_size_over_H * spec.H)
+    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
     return quads * layers, points * (layers + 1)
+
+
+def _max_thickness(spec: SphereCapSpec) -> float:
+    """The thickest layer under the band: max_size_over_H H, or max_layer_aspect h0 if smaller (bounded aspect
+    ratios under the band's h0-wide columns, at the cost of more layers)."""
+    size = spec.max_size_over_H * spec.H
+    return size if spec.max_layer_aspect is None else min(size, spec.max_layer_aspect * spec.h0)
 
 
 def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
@@ -156,7 +164,7 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     phi0, phi1 = _arc_angles(meridian)
     U = spec.R * phi1
     disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth)
-    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, spec.max_size_over_H * spec.H)
+    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
     s = np.linalg.norm(disk, axis=1)
     # the top layer: h0 in the band, beyond it as thick as the rings are wide there (near-cubic surface cells)
     _, radii = _ring_plan(U, spec.h0, spec.band_radius, spec.ring_growth)
