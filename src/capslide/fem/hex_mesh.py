@@ -11,8 +11,9 @@ without its 3:1 transitions:
   (an O-grid, no cell degenerates on the axis);
 - outside the band the rings widen by ``ring_growth`` per ring (never narrower than square);
 - layers from the top down: in the band the first is h0 thick, each ``layer_growth`` times the one above, at
-  most ``max_size_over_H`` H, which sets the number of layers; every column has that many, in a geometric series
-  that closes on the base, its top layer h0 thick in the band and as thick as the rings are wide beyond it;
+  most ``max_size_over_H`` H (and ``max_layer_aspect`` h0 if given), which sets the number of layers; every column
+  has that many, in a geometric series that closes on the base, its top layer h0 thick in the band and as thick
+  as the rings are wide beyond it;
 - a logical point P of the half disk at height v maps to (r P / |P|, z), where (r, z) is the 2D cap's Coons map at
   (|P|, v): the logical top (|P| <= U, v = H) is the sphere up to the polar angle phi1, the logical side (|P| = U) is
   the sphere from phi1 down to the base.
@@ -28,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mesh import BandTooWide, CapMeshSpec, Mesh, _arc_angles, _coons_map
+from .mesh import BandTooWide, CapMeshSpec, Mesh, arc_angles, coons_map
 
 __all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "spherical_cap_volume"]
 
@@ -65,7 +66,7 @@ def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np
     c = n * h0
     if 1.5 * c >= U:
         raise BandTooWide(f"contact band radius {band:g} L0 leaves no room for the rings around it on the cap top "
-                          f"(at most {U / 1.5 * 1.5:.3g} L0)")
+                          f"(at most about {U:.3g} L0)")
     gamma = math.pi / (4 * n)  # a ring step of gamma rho keeps the ring cells square
     radii, step = [c], 0.0
     while radii[-1] < U:
@@ -139,7 +140,7 @@ def _depths(top: np.ndarray, H: float, layers: int) -> np.ndarray:
 
 def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
     """Cells and nodes of :func:`sphere_cap_mesh` for ``spec``, from the plan alone."""
-    _, phi1 = _arc_angles(spec.meridian())
+    _, phi1 = arc_angles(spec.meridian())
     n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth)
     quads = 2 * n * n + 4 * n * (len(radii) - 1)
     points = (2 * n + 1) * (n + 1) + (4 * n + 1) * (len(radii) - 1)
@@ -161,7 +162,7 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     (the contact facets), counter-clockwise seen from above.
     """
     meridian = spec.meridian()
-    phi0, phi1 = _arc_angles(meridian)
+    phi0, phi1 = arc_angles(meridian)
     U = spec.R * phi1
     disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth)
     layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
@@ -172,7 +173,7 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     top = np.maximum(spec.h0, np.interp(s, radii[:-1], widths, left=spec.h0) * (s > spec.band_radius))
     v = (spec.H - _depths(top, spec.H, layers)).ravel()  # level k of point i at k * m + i
     m = len(disk)
-    rz = _coons_map(np.column_stack([np.tile(s, layers + 1), v]), meridian, U, phi0, phi1)
+    rz = coons_map(np.column_stack([np.tile(s, layers + 1), v]), meridian, U, phi0, phi1)
     scale = np.divide(rz[:, 0], np.tile(s, layers + 1), out=np.zeros(len(rz)), where=np.tile(s, layers + 1) > 0)
     nodes = np.column_stack([np.tile(disk, (layers + 1, 1)) * scale[:, None], rz[:, 1]])
     # layer k lies between level k (upper) and level k + 1 (lower): VTK order, the lower face first

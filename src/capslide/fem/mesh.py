@@ -27,7 +27,7 @@ from ..laws import material
 from .element import CELLS
 
 __all__ = ["Mesh", "CapMeshSpec", "cap_mesh", "cell_and_node_counts", "band_limit", "BandTooWide", "rectangle_mesh",
-           "circular_segment_area", "H0_AT_SIZE_1"]
+           "circular_segment_area", "arc_angles", "coons_map", "H0_AT_SIZE_1"]
 
 # Surface element size (L0) at mesh.size = 1, with 4 layers per level: the
 # paper's cap then has 41,720 Q1 cells, its 42,300-element level
@@ -194,7 +194,7 @@ def _merged(widths: list[float], groups: list[int]) -> list[float]:
 
 def cell_and_node_counts(spec: CapMeshSpec) -> tuple[int, int]:
     """Cells and nodes of :func:`cap_mesh` for ``spec``, counted from the layer plan without building the mesh."""
-    phi0, phi1 = _arc_angles(spec)
+    phi0, phi1 = arc_angles(spec)
     cells = 0
     nodes = 2 * len(_right_half_columns(spec.R * phi1, spec.h0, spec.band_half_width, spec.side_growth,
                                         spec.max_size_over_H * spec.H)) + 1  # the top row
@@ -255,7 +255,7 @@ def _logical_q1(spec: CapMeshSpec, U: float):
     return np.array(nodes), np.array(cells, dtype=np.int64), rows
 
 
-def _coons_map(uv: np.ndarray, spec: CapMeshSpec, U: float, phi0: float, phi1: float) -> np.ndarray:
+def coons_map(uv: np.ndarray, spec: CapMeshSpec, U: float, phi0: float, phi1: float) -> np.ndarray:
     """Map logical (u, v) to the circular segment (transfinite interpolation)."""
     R, H = spec.R, spec.H
     b = R * math.sin(phi0)
@@ -301,7 +301,7 @@ def band_limit(spec: CapMeshSpec) -> float:
     return 0.85 * math.acos((spec.R - spec.H) / spec.R) * spec.R - 4 * spec.h0
 
 
-def _arc_angles(spec: CapMeshSpec) -> tuple[float, float]:
+def arc_angles(spec: CapMeshSpec) -> tuple[float, float]:
     """Half-angle of the cap's arc and of the logical top edge (the band plus a margin of four elements)."""
     R, H = spec.R, spec.H
     if not 0 < H <= R:
@@ -317,7 +317,7 @@ def _arc_angles(spec: CapMeshSpec) -> tuple[float, float]:
 def cap_mesh(spec: CapMeshSpec) -> Mesh:
     """Graded Q1 or Q2 mesh of the cap (see the module docstring)."""
     R = spec.R
-    phi0, phi1 = _arc_angles(spec)
+    phi0, phi1 = arc_angles(spec)
     U = R * phi1
     uv, cells, rows = _logical_q1(spec, U)
     left_edge = [row[0] for row in rows[::-1]]  # from the base corner up to P_L
@@ -330,7 +330,7 @@ def cap_mesh(spec: CapMeshSpec) -> Mesh:
         seg = np.column_stack([seg[:, 0], mids, seg[:, 1]])
     elif spec.element != "Q1":
         raise ValueError(f"element must be Q1 or Q2, not {spec.element!r}")
-    X = _coons_map(uv, spec, U, phi0, phi1)
+    X = coons_map(uv, spec, U, phi0, phi1)
     base = np.flatnonzero(uv[:, 1] == 0.0)
     info = {"h0": spec.h0, "band_half_width": spec.band_half_width, "U": U, "phi0": phi0, "phi1": phi1}
     return Mesh(spec.element, X, cells, base, seg, info)
