@@ -104,6 +104,26 @@ def test_the_sphere_figures_draw_from_the_file(sphere_case, tmp_path):
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000
 
 
+def test_max_layer_aspect_adds_layers_to_the_3d_mesh_only():
+    from capslide.model.build import mesh_spec
+
+    capped = Parameters.from_config(load_config(["sphere"], ["mesh.size=100", "mesh.max_layer_aspect=4"]))
+    plain = Parameters.from_config(load_config(["sphere"], ["mesh.size=100"]))
+    spec = mesh_spec(capped)
+    assert spec.max_layer_aspect == 4.0 and mesh_spec(plain).max_layer_aspect is None
+    mesh, plain_mesh = sphere_cap_mesh(spec), sphere_cap_mesh(mesh_spec(plain))
+    assert mesh.info["layers"] > plain_mesh.info["layers"]
+
+    def worst_aspect(m):
+        X = m.nodes[m.cells]
+        edges = np.linalg.norm(X[:, [1, 2, 3, 0, 5, 6, 7, 4, 4, 5, 6, 7]] - X[:, [0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3]], axis=2)
+        return float((edges.max(axis=1) / edges.min(axis=1)).max())
+
+    assert worst_aspect(mesh) < worst_aspect(plain_mesh)
+    with pytest.raises(ConfigError, match="mesh.max_layer_aspect = 4 is not allowed with mesh.element = Q"):
+        load_config(["cap"], ["mesh.max_layer_aspect=4"])
+
+
 def test_maugis_lambda_sets_t_max():
     cfg = load_config(["sphere"])
     del cfg["adhesion"]["T_max"]

@@ -45,6 +45,9 @@ def _check_three_d(config: Mapping) -> None:
     """The 3D sphere (mesh.element = H1) has normal contact only in this version: no friction, no slide, no viscous
     bulk, the normal traction per reference area (friction in 3D: issue 40)."""
     if config["mesh"]["element"] != "H1":
+        if config["mesh"]["max_layer_aspect"] is not None:
+            raise ConfigError(f"mesh.max_layer_aspect = {config['mesh']['max_layer_aspect']!r} is not allowed with "
+                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
         return
     refused = {"friction.model": (config["friction"]["model"], "none"),
                "loading.ubar_max": (config["loading"]["ubar_max"], 0.0),

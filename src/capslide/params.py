@@ -169,6 +169,7 @@ class MeshSpec:
     band_half_width: float | None
     max_size_over_H: float = 0.25
     formulation: str = "displacement"  # or "mixed" (Q2/P1, fem.mixed)
+    max_layer_aspect: float | None = None  # 3D: the thickest layer under the band / h0 (fem.hex_mesh)
 
 
 @dataclass(frozen=True)
@@ -335,6 +336,7 @@ class Parameters:
                 surface_gauss_points=int(msh["surface_gauss_points"]),
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
                 max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
+                max_layer_aspect=None if msh["max_layer_aspect"] is None else float(msh["max_layer_aspect"]),
             ),
             loading=loading,
             solver=SolverSpec(

@@ -11,7 +11,7 @@ without its 3:1 transitions:
   (an O-grid, no cell degenerates on the axis);
 - outside the band the rings widen by ``ring_growth`` per ring (never narrower than square);
 - layers from the top down: in the band the first is h0 thick, each ``layer_growth`` times the one above, at
-  most ``max_size_over_H`` H (and ``max_layer_aspect`` h0 if given), which sets the number of layers; every column
+  most ``max_size_over_H`` H (and ``max_layer_aspect`` h0 if given): this plan sets the number of layers; every column
   has that many, in a geometric series that closes on the base, its top layer h0 thick in the band and as thick
   as the rings are wide beyond it;
 - a logical point P of the half disk at height v maps to (r P / |P|, z), where (r, z) is the 2D cap's Coons map at
@@ -44,7 +44,7 @@ class SphereCapSpec:
     band_radius: float  # radius of the refined contact band (reference, on the top surface)
     layer_growth: float = 1.25  # thickness ratio of a layer to the one above, in the band (it sets the layer count)
     ring_growth: float = 1.15  # width ratio of a ring to the one inside it, outside the band
-    max_layer_aspect: float | None = None  # thickest layer under the band / h0 (None: only max_size_over_H H)
+    max_layer_aspect: float | None = None  # layers counted as if none under the band were thicker than this x h0
     max_size_over_H: float = 0.25  # largest layer thickness / H
 
     def meridian(self) -> CapMeshSpec:
@@ -149,8 +149,9 @@ def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
 
 
 def _max_thickness(spec: SphereCapSpec) -> float:
-    """The thickest layer under the band: max_size_over_H H, or max_layer_aspect h0 if smaller (bounded aspect
-    ratios under the band's h0-wide columns, at the cost of more layers)."""
+    """The thickest layer of the plan that sets the number of layers: max_size_over_H H, or max_layer_aspect h0 if
+    smaller (more layers, so flatter cells under the band's h0-wide columns; each column then spreads them in its
+    geometric series, whose deepest layer may be thicker than the plan's)."""
     size = spec.max_size_over_H * spec.H
     return size if spec.max_layer_aspect is None else min(size, spec.max_layer_aspect * spec.h0)
 
