@@ -52,3 +52,24 @@ def solve_dirichlet(mesh, nodes, values, solver="direct", options=None, form=Non
             return res.x, res, form
         u = res.x
     return u, res, form
+
+
+def apply_bordered_jacobian(solve, v):
+    """J v for the bordered Jacobian [K c; d^T e] of a model's linearization (v = [u, h])."""
+    u, h = v[:-1], v[-1]
+    return np.concatenate([solve.K @ u + solve.c * h, [solve.d @ u + solve.e * h]])
+
+
+def check_bordered_jacobian(model, x, constraint, history, directions: int, seed: int = 3, eps: float = 1e-7):
+    """The model's residual at x is the linearization's, and J v matches central differences of the residual in
+    ``directions`` random directions (free DOFs and h), to 1e-6 of the largest difference."""
+    r, solve = model.linearize(x, constraint, history)
+    np.testing.assert_allclose(r, model.residual(x, constraint, history), atol=1e-13)
+    rng = np.random.default_rng(seed)
+    free = np.ones(model.n_dofs + 1)
+    free[model.bc.dofs] = 0.0
+    for _ in range(directions):
+        v = rng.normal(size=model.n_dofs + 1) * free
+        v[-1] = rng.normal()
+        fd = (model.residual(x + eps * v, constraint, history) - model.residual(x - eps * v, constraint, history)) / (2 * eps)
+        np.testing.assert_allclose(apply_bordered_jacobian(solve, v), fd, atol=1e-6 * np.abs(fd).max())

@@ -14,6 +14,8 @@ from capslide.model.system import CapModel, History
 from capslide.params import Parameters
 from capslide.solvers.linsolve import make_solver
 
+from fe_helpers import check_bordered_jacobian
+
 
 @pytest.fixture(scope="module")
 def model(paper_config):
@@ -63,17 +65,7 @@ def test_bordered_jacobian_against_finite_differences(model, constraint):
     g, _ = model.contact.gaps(x[:-1], x[-1])
     a = model.params.adhesion
     assert (g < a.g_reg).any() and ((g > a.g_eq) & (g < a.g_max)).any() and (g > a.g_max).any()
-    r, solve = model.linearize(x, constraint, History())
-    np.testing.assert_allclose(r, model.residual(x, constraint, History()), atol=1e-13)
-    rng = np.random.default_rng(3)
-    free = np.ones(model.n_dofs + 1)
-    free[model.bc.dofs] = 0.0
-    for _ in range(3):
-        v = rng.normal(size=model.n_dofs + 1) * free
-        eps = 1e-7
-        fd = (model.residual(x + eps * v, constraint, History()) - model.residual(x - eps * v, constraint, History())) / (2 * eps)
-        Jv = np.concatenate([solve.K @ v[:-1] + solve.c * v[-1], [solve.d @ v[:-1] + solve.e * v[-1]]])
-        np.testing.assert_allclose(Jv, fd, atol=1e-6 * np.abs(fd).max())
+    check_bordered_jacobian(model, x, constraint, History(), directions=3)
 
 
 def test_contact_force_is_the_traction_integral(model):

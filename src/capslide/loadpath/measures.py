@@ -81,8 +81,6 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     g, xs = c.gaps(u, h)
     Tn, _ = c.traction(g)
     Tn = c.theta(u) * Tn  # per reference area
-    a = model.params.adhesion
-    Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
     _, Fn, Ft = c.force(u, h, ubar, history.anchors, history.slip)
     Tt, state = c.tangential_state(u, h, ubar, history.anchors, history.slip)
     pts, gg, tn, st = xs.reshape(-1, model.dim), g.ravel(), Tn.ravel(), state.ravel()
@@ -94,6 +92,8 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     else:
         area, xl, xr = interval_measures(pts, open_gap)
         area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
+        a = model.params.adhesion
+        Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
         area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
         area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
         sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
