@@ -3,6 +3,8 @@ consistent linearization against finite differences (the bordered Jacobian of th
 substrate height and the constraint row), the boundary conditions of the half model, and the contact force's
 integral against a direct sum."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -84,3 +86,23 @@ def test_contact_force_is_the_traction_integral(model):
     np.testing.assert_allclose(f[1::3], 0.0)
     assert model.base_reaction(x).shape == (3,)
     assert model.saved_shapes()["snapshot_u"] == (model.mesh.n_nodes, 3)
+
+
+def test_every_node_on_the_plane_of_symmetry_is_held(model):
+    """Before: the rings' points on y = 0 at x < 0 had y = R sin(pi) = 1e-15 and were left free."""
+    on_plane = np.flatnonzero(np.abs(model.mesh.nodes[:, 1]) < 1e-9)
+    np.testing.assert_array_equal(np.sort(model.mesh.symmetry), on_plane)
+    assert np.all(model.mesh.nodes[on_plane, 1] == 0.0)
+
+
+def test_the_whole_cap_is_the_half_and_its_mirror_image():
+    from capslide.fem.hex_mesh import sphere_cap_counts
+
+    spec = SphereCapSpec(R=47.1, H=10.0, h0=1.5, band_radius=8.0, max_size_over_H=0.4)
+    half, whole = sphere_cap_mesh(spec), sphere_cap_mesh(replace(spec, whole=True))
+    assert sphere_cap_counts(replace(spec, whole=True)) == (whole.n_cells, len(whole.nodes))
+    assert whole.n_cells == 2 * half.n_cells and len(whole.symmetry) == 0
+    assert len(whole.nodes) == 2 * len(half.nodes) - len(half.symmetry)
+    assert whole.area() == pytest.approx(2 * half.area(), rel=1e-12)  # the cells' volume
+    assert len(np.unique(whole.nodes.round(9), axis=0)) == len(whole.nodes)  # no point twice
+    assert len(whole.surface_segments) == 2 * len(half.surface_segments)

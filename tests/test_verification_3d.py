@@ -70,7 +70,8 @@ def test_frictionless_contact_stays_circular(hertz_state):
 def sphere_case(tmp_path_factory):
     """The sphere scene on a coarse mesh (6.8k DOF): approach, spread under edge control, preload to Fn = 0."""
     out = tmp_path_factory.mktemp("sphere") / "sphere.nc"
-    config = load_config(["sphere"], ["mesh.size=220", "loading.approach_edge_step=1.0"])
+    config = load_config(["sphere"], ["mesh.size=220", "loading.approach_edge_step=1.0", "loading.ubar_max=0",
+                                      "output.snapshot_ubar=[0.0]"])
     capslide.run(config).to_netcdf(out)
     return xr.open_dataset(out)
 

@@ -170,6 +170,7 @@ class MeshSpec:
     max_size_over_H: float = 0.25
     formulation: str = "displacement"  # or "mixed" (Q2/P1, fem.mixed)
     max_layer_aspect: float | None = None  # 3D: the thickest layer under the band / h0 (fem.hex_mesh)
+    symmetry_plane: bool = True  # 3D: the half model (y >= 0) with its plane of symmetry, else the whole cap
 
 
 @dataclass(frozen=True)
@@ -337,6 +338,7 @@ class Parameters:
                 band_half_width=None if msh["band_half_width"] is None else float(msh["band_half_width"]),
                 max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
                 max_layer_aspect=None if msh["max_layer_aspect"] is None else float(msh["max_layer_aspect"]),
+                symmetry_plane=bool(msh["symmetry_plane"]),
             ),
             loading=loading,
             solver=SolverSpec(

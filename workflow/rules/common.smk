@@ -12,6 +12,7 @@ from capslide.config import (
     ConfigError,
     apply_settings,
     flatten,
+    load_config,
     override_args,
     retyped,
     validate,
@@ -147,3 +148,26 @@ def case_priority(sets):
     """
     preload = sets.get("loading.preload", config["loading"]["preload"])
     return 5.0 - 10.0 * float(preload)
+
+
+def expand_scene_study(scene_file, spec, what):
+    """Run id -> config overrides of a packaged scene's study section (``spec``), each run's configuration (the
+    scene file, then the run's overrides) validated now, as :func:`expand_study` does for the workflow's study.
+    """
+    try:
+        out = runs(spec, "study")
+        check_runs(out, [scene_file])
+    except ConfigError as err:
+        raise WorkflowError(f"{what}: {err}") from None
+    return out
+
+
+def scene_previous_state(scene_config, preload, computed):
+    """:func:`previous_state` for a scene's own loading (its retract_from and preload_via)."""
+    loading = SimpleNamespace(
+        preload=preload,
+        retract_from=scene_config["loading"]["retract_from"],
+        preload_via=tuple(scene_config["loading"]["preload_via"]),
+    )
+    previous = previous_target(loading, computed)
+    return None if previous is None else f"{previous:+.3f}"

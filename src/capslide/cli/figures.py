@@ -42,7 +42,7 @@ def cmd_figure(args) -> int:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASES.nc (from capslide collect)")
         cases = open_result(args.input, "cases")
-        kwargs = {"tau_DI": _tau_DI(cases)} if args.name in ("cap_PxOverAc", "cap_FtOverA") else {}
+        kwargs = {"tau_DI": _tau_DI(cases)} if args.name.endswith(("_PxOverAc", "_FtOverA")) else {}
         draw = lambda: figures.CASES_FIGURES[args.name](cases, **kwargs)  # noqa: E731
     elif args.name in figures.CASE_FIGURES:
         if not args.input:

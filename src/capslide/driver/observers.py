@@ -83,7 +83,8 @@ class Snapshots(Observer):
         if self._starts_slide(step.state):  # this state starts the slide
             self.snapshots.append(field_snapshot(self.model, step.x, 0.0, step.state.history))
         if step.breakpoint is not None:
-            self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint, step.state.history))
+            self.snapshots.append(field_snapshot(self.model, step.x, step.breakpoint, step.state.history,
+                                                 step.record.slip_state))
 
 
 class OnsetStop(Observer):

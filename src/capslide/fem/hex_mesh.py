@@ -31,7 +31,8 @@ import numpy as np
 
 from .mesh import BandTooWide, CapMeshSpec, Mesh, arc_angles, coons_map
 
-__all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "spherical_cap_volume"]
+__all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "mirrored_disk",
+           "spherical_cap_volume"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class SphereCapSpec:
     ring_growth: float = 1.15  # width ratio of a ring to the one inside it, outside the band
     max_layer_aspect: float | None = None  # layers counted as if none under the band were thicker than this x h0
     max_size_over_H: float = 0.25  # largest layer thickness / H
+    whole: bool = False  # the whole cap (no plane of symmetry) instead of the half y >= 0
 
     def meridian(self) -> CapMeshSpec:
         """The 2D cap whose meridional map this mesh turns about the axis."""
@@ -96,6 +98,7 @@ def half_disk(U: float, h0: float, band: float, growth: float = 1.15) -> tuple[n
     square = points[0][chain] / c  # on the unit rectangle
     theta = np.linspace(0.0, math.pi, 4 * n + 1)
     circle = np.column_stack([np.cos(theta), np.sin(theta)])
+    circle[[0, -1]] = [[1.0, 0.0], [-1.0, 0.0]]  # on y = 0 exactly: sin(pi) = 1.2e-16 put points off the plane
     previous, start = chain, len(points[0])
     blend = min(1.0, math.log(U / c))
     for rho in radii[1:]:
@@ -105,6 +108,16 @@ def half_disk(U: float, h0: float, band: float, growth: float = 1.15) -> tuple[n
         cells.append(np.column_stack([previous[1:], previous[:-1], ring[:-1], ring[1:]]))
         previous, start = ring, start + 4 * n + 1
     return np.vstack(points), np.vstack(cells)
+
+
+def mirrored_disk(points: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The whole disk of a half disk (:func:`half_disk`): its mirror image in y = 0 added, sharing the points on
+    y = 0, its cells counter-clockwise too."""
+    upper = np.flatnonzero(points[:, 1] != 0.0)
+    image = np.arange(len(points))
+    image[upper] = len(points) + np.arange(len(upper))
+    mirrored = image[cells][:, ::-1]  # a reflection reverses the order of the corners
+    return np.vstack([points, points[upper] * [1.0, -1.0]]), np.vstack([cells, mirrored])
 
 
 def _layer_count(H: float, h0: float, growth: float, max_size: float) -> int:
@@ -144,6 +157,8 @@ def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
     n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth)
     quads = 2 * n * n + 4 * n * (len(radii) - 1)
     points = (2 * n + 1) * (n + 1) + (4 * n + 1) * (len(radii) - 1)
+    if spec.whole:  # the mirror image of the half disk, sharing the points on y = 0
+        quads, points = 2 * quads, 2 * points - (2 * n + 1) - 2 * (len(radii) - 1)
     layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
     return quads * layers, points * (layers + 1)
 
@@ -157,15 +172,18 @@ def _max_thickness(spec: SphereCapSpec) -> float:
 
 
 def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
-    """The graded trilinear (H1) half model of the spherical cap (see the module docstring).
+    """The graded trilinear (H1) half model of the spherical cap (see the module docstring); with ``spec.whole``
+    the whole cap, the half's mirror image added (a check of the plane of symmetry).
 
-    ``base``: the nodes on z = 0; ``symmetry``: the nodes on y = 0; ``surface_segments``: the logical top's faces
-    (the contact facets), counter-clockwise seen from above.
+    ``base``: the nodes on z = 0; ``symmetry``: the nodes on y = 0 (none for the whole cap); ``surface_segments``:
+    the logical top's faces (the contact facets), counter-clockwise seen from above.
     """
     meridian = spec.meridian()
     phi0, phi1 = arc_angles(meridian)
     U = spec.R * phi1
     disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth)
+    if spec.whole:
+        disk, quads = mirrored_disk(disk, quads)
     layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
     s = np.linalg.norm(disk, axis=1)
     # the top layer: h0 in the band, beyond it as thick as the rings are wide there (near-cubic surface cells)
@@ -180,7 +198,7 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     # layer k lies between level k (upper) and level k + 1 (lower): VTK order, the lower face first
     cells = np.vstack([np.hstack([quads + (k + 1) * m, quads + k * m]) for k in range(layers)])
     base = np.arange(layers * m, (layers + 1) * m)
-    symmetry = np.flatnonzero(np.tile(disk[:, 1], layers + 1) == 0.0)
+    symmetry = np.flatnonzero(np.tile(disk[:, 1], layers + 1) == 0.0) if not spec.whole else np.zeros(0, dtype=np.int64)
     info = {"h0": spec.h0, "band_radius": spec.band_radius, "U": U, "phi0": phi0, "phi1": phi1, "layers": layers}
     return Mesh("H1", nodes, cells, base, quads.copy(), info, symmetry=symmetry)
 

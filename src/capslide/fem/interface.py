@@ -1,6 +1,7 @@
 """Contact of the cap's top surface with the rigid flat substrate.
 
-The substrate's lower face is the line y = h; it slides in +x by ubar. At a
+The substrate's lower face is the line y = h (the plane z = h in 3D: the gap
+and the normal traction act along the last axis); it slides in +x by ubar. At a
 surface Gauss point with current position x = X + u the normal gap is
 g_n = h - y (no closest-point search: the substrate is flat), the substrate
 normal is n_p = (0, -1), and the traction on the cap per reference length is
@@ -17,7 +18,10 @@ point of the substrate in the substrate's frame; the tangential gap is
 g_t = x - (xi + ubar), the trial traction per reference area -eps_t g_t,
 returned to the threshold J_s t_slide(g_n) (model DI, J_s = |dx/dX| the
 surface stretch) or T_slide(g_n) (model EA). The traction on the cap is
-T_t e_x (positive in the sliding direction). The anchors are the friction
+T_t e_x (positive in the sliding direction). In 3D the anchor, the tangential
+gap and the traction are vectors (x, y) in the contact plane, returned radially
+(:func:`capslide.laws.contact.vector_return_map`), and J_s is the area stretch
+(:mod:`capslide.fem.surface`). The anchors are the friction
 history: they are passed in explicitly (None: friction not started) and
 renewed only by :meth:`SurfaceContact.committed_anchors` at converged steps.
 With static and kinetic thresholds (``weakening``), the threshold weakens with
@@ -38,53 +42,10 @@ from ..laws import contact
 from ..laws.friction import FrictionLaw, ReturnMapSettings
 from ..params import Adhesion
 from ..states import SlipState
-from .element import QUADS, gauss_legendre, gauss_quad, line_shape
 from .mesh import Mesh
+from .surface import SurfaceQuadrature, stretch, stretch_gradient_3d
 
 __all__ = ["SurfaceQuadrature", "SurfaceContact", "ContactLinearization"]
-
-
-@dataclass(frozen=True)
-class SurfaceQuadrature:
-    """Gauss points on the top-surface facets: line elements in 2D, ordered by reference x; bilinear quadrilateral
-    faces in 3D (an n_gauss x n_gauss rule on each)."""
-
-    segments: np.ndarray  # (s, p+1) node ids (3D: (s, 4))
-    N: np.ndarray  # (g, p+1) shape functions at the Gauss points
-    dN: np.ndarray  # (g, p+1) d/ds (3D: (g, 4, 2), d/dxi and d/deta)
-    weight: np.ndarray  # (s, g) Gauss weight times the reference length (3D: area) element
-    X: np.ndarray  # (s, g, d) reference positions
-    X_nodes: np.ndarray  # (s, p+1, d) reference positions of the segment nodes
-
-    @classmethod
-    def on(cls, mesh: Mesh, n_gauss: int) -> SurfaceQuadrature:
-        seg = mesh.surface_segments
-        Xn = mesh.nodes[seg]  # (s, a, d)
-        if mesh.dim == 3:
-            points, w = gauss_quad(n_gauss)
-            N, dN = QUADS["Q1"].shape(points)
-            dX = np.einsum("gak,sai->sgik", dN, Xn)
-            return cls(seg, N, dN, w * np.linalg.norm(np.cross(dX[..., 0], dX[..., 1]), axis=-1),
-                       np.einsum("ga,sai->sgi", N, Xn), Xn)
-        s, w = gauss_legendre(n_gauss)
-        N, dN = line_shape(seg.shape[1] - 1, s)
-        X = np.einsum("ga,sai->sgi", N, Xn)
-        dX = np.einsum("ga,sai->sgi", dN, Xn)
-        return cls(seg, N, dN, w * np.linalg.norm(dX, axis=-1), X, Xn)
-
-    @property
-    def n_points(self) -> int:
-        return self.weight.size
-
-    @property
-    def dim(self) -> int:
-        return self.X.shape[-1]
-
-    def current(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Current positions (s, g, d) and tangents: dx/ds (s, g, 2) in 2D, (dx/dxi, dx/deta) (s, g, 3, 2) in 3D."""
-        xn = self.X_nodes + u.reshape(-1, self.dim)[self.segments]
-        tangents = "gak,sai->sgik" if self.dN.ndim == 3 else "ga,sai->sgi"
-        return np.einsum("ga,sai->sgi", self.N, xn), np.einsum(tangents, self.dN, xn)
 
 
 @dataclass
@@ -107,11 +68,6 @@ class ContactLinearization:
     dFn_dh: float
 
 
-def _stretch(t: np.ndarray, ref_len: np.ndarray) -> np.ndarray:
-    """The surface stretch J_s = |dx/ds| / |dX/ds| from the current tangents (..., 2) and reference lengths."""
-    return np.linalg.norm(t, axis=-1) / ref_len
-
-
 @dataclass
 class _Points:
     """Pointwise contact quantities on the active segments (k, g)."""
@@ -124,8 +80,8 @@ class _Points:
     dTt_dx: np.ndarray | None = None  # d T_t / d x (tangential position)
     dTt_dg: np.ndarray | None = None  # d T_t / d g_n
     dTt_dJ: np.ndarray | None = None  # d T_t / d J_s (DI)
-    t: np.ndarray | None = None  # current tangent dx/ds (k, g, 2)
-    T_len: np.ndarray | None = None  # |dX/ds| (k, g)
+    t: np.ndarray | None = None  # current tangent dx/ds (k, g, 2); 3D: (x,xi, x,eta) (k, g, 3, 2)
+    T_len: np.ndarray | None = None  # reference measure |dX/ds| (k, g); 3D: |X,xi x X,eta|
     slipping: np.ndarray | None = None
     theta: np.ndarray | float = 1.0  # theta_k: 1, or the surface stretch J_s (k, g)
 
@@ -138,14 +94,17 @@ class _Points:
         """dJ_s/du_bi = dN_b t_i / (|t| |dX/ds|), without dN_b: (k, g, 2)."""
         return self.t / (np.linalg.norm(self.t, axis=-1) * self.T_len)[..., None]
 
+    def dJ_du_3d(self, dN: np.ndarray) -> np.ndarray:
+        """3D: dJ_s/du_bi with the shape gradients dN (g, b, 2) of the face: (k, g, b, 3)."""
+        return stretch_gradient_3d(self.t, self.T_len, dN)
+
 
 class SurfaceContact:
     """CGCM normal contact and (optionally) DI/EA friction of the cap against the rigid flat y = h (z = h in 3D:
     the gap is measured along the last axis).
 
     ``law`` is the friction law (None: frictionless) and ``return_map`` its penalty and slip weakening; friction
-    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. In 3D the contact is
-    frictionless with theta_k = 1 (friction and J_s on faces: issue 40). On a half model (a mesh with a plane of
+    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. On a half model (a mesh with a plane of
     symmetry) the integrated quantities, Fn, Ft and the adhesion energy, and their derivatives, are the whole
     body's: twice the half's (``multiplicity``); the force vector is the half's.
     """
@@ -164,14 +123,10 @@ class SurfaceContact:
         self.dim = d = mesh.dim
         self.multiplicity = 2.0 if len(mesh.symmetry) else 1.0
         self.vertical = d - 1  # the axis of the gap and of the normal traction
-        if d == 3 and (law is not None or normal_per_current_area):
-            raise ValueError("3D contact is frictionless with the normal traction per reference area (issue 40)")
         seg = mesh.surface_segments
         self.seg_dofs = np.stack([d * seg + i for i in range(d)], axis=-1).reshape(len(seg), -1)  # (s, d(p+1))
         self.n_dofs = mesh.n_dofs
-        if d == 2:
-            dX = np.einsum("ga,sai->sgi", self.quad.dN, self.quad.X_nodes)
-            self.ref_len = np.linalg.norm(dX, axis=-1)  # |dX/ds|, (s, g)
+        self.ref_len = self.quad.ref_measure  # |dX/ds| (s, g); 3D: |X,xi x X,eta|
 
     def friction_active(self, anchors: np.ndarray | None) -> bool:
         return anchors is not None and self.law is not None
@@ -191,7 +146,7 @@ class SurfaceContact:
         if not self.normal_per_current_area:
             return 1.0
         _, t = self.quad.current(u)
-        return _stretch(t, self.ref_len)
+        return stretch(t, self.ref_len, self.dim)
 
     def gaps(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Normal gaps (s, g) and current positions (s, g, d)."""
@@ -211,26 +166,35 @@ class SurfaceContact:
         near = g < self.far_gap
         Tn, dTn = self.traction(np.where(near, g, self.far_gap))
         pts = _Points(act, g, np.where(near, Tn, 0.0), np.where(near, dTn, 0.0), t=t,
-                      T_len=self.ref_len[act] if self.dim == 2 else None)
+                      T_len=self.ref_len[act])
         friction = self.friction_active(anchors)
-        J = _stretch(t, pts.T_len) if friction or self.normal_per_current_area else None
+        J = stretch(t, pts.T_len, self.dim) if friction or self.normal_per_current_area else None
         if self.normal_per_current_area:
             pts.theta = J
         if friction:
             eps_t = self.eps_t
             thr, dthr_dg, dthr_dJ = (np.where(near, v, 0.0) for v in self.law.threshold(g, J))
-            trial = -eps_t * (x[..., 0] - anchors[act] - ubar)
-            if self.weakening is not None and slip is not None:
-                ratio, D_c = self.weakening
-                Tt, slipping, dT_dtrial, dT_dthr = contact.weakening_return_map(trial, thr, slip[act], ratio, D_c,
-                                                                                eps_t)
+            if self.dim == 3:  # the vector tangential gap in the plane, (x, y) - anchor - (ubar, 0)
+                trial = -eps_t * (x[..., :2] - anchors[act] - np.array([ubar, 0.0]))
+                dthr_dg, dthr_dJ = dthr_dg[..., None], dthr_dJ[..., None]
             else:
-                Tt, slipping, dT_dtrial, dT_dthr = contact.return_map(trial, thr)
+                trial = -eps_t * (x[..., 0] - anchors[act] - ubar)
+            Tt, slipping, dT_dtrial, dT_dthr = self._return_map(trial, thr, None if slip is None else slip[act])
             pts.Tt, pts.slipping = Tt, slipping
             pts.dTt_dx = -eps_t * dT_dtrial
             pts.dTt_dg = dT_dthr * dthr_dg
             pts.dTt_dJ = dT_dthr * dthr_dJ
         return pts
+
+    def _return_map(self, trial: np.ndarray, threshold: np.ndarray, slip: np.ndarray | None):
+        """The return map of the trial tractions (scalar in 2D, vector in 3D), weakening with the accumulated
+        ``slip`` when the thresholds are static and kinetic."""
+        if self.weakening is not None and slip is not None:
+            ratio, D_c = self.weakening
+            magnitude = lambda T, thr: contact.weakening_return_map(T, thr, slip, ratio, D_c, self.eps_t)  # noqa: E731
+        else:
+            magnitude = contact.return_map
+        return magnitude(trial, threshold) if self.dim == 2 else contact.vector_return_map(trial, threshold, magnitude)
 
     # -- residual and linearization --------------------------------------
     def force(self, u: np.ndarray, h: float, ubar: float = 0.0, anchors: np.ndarray | None = None,
@@ -242,9 +206,17 @@ class SurfaceContact:
         np.add.at(f, self.dim * seg + self.vertical, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))  # T_y = -theta_k Tn
         Ft = 0.0
         if pts.Tt is not None:
-            np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
-            Ft = float(np.sum(pts.Tt * W))
+            Ft = self._add_tangential_force(f, pts, W, seg)
         return f, self.whole(float(-np.sum(pts.Tn_ref * W))), self.whole(Ft)
+
+    def _add_tangential_force(self, f: np.ndarray, pts: _Points, W: np.ndarray, seg: np.ndarray) -> float:
+        """Adds the friction tractions' nodal forces to f; returns their integrated x component (the half's)."""
+        N = self.quad.N
+        if self.dim == 3:
+            np.add.at(f, 3 * seg[..., None] + np.arange(2), np.einsum("ga,sgi,sg->sai", N, pts.Tt, W))
+            return float(np.sum(pts.Tt[..., 0] * W))
+        np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
+        return float(np.sum(pts.Tt * W))
 
     def whole(self, value):
         """An integral over the modelled part as the whole body's (half model: twice it)."""
@@ -267,24 +239,42 @@ class SurfaceContact:
         np.add.at(dR_dh, d * seg + v, np.einsum("ga,sg,sg->sa", N, dTn, W))  # -d(T_y)/dh = theta_k Tn'
         dFn_du = dR_dh.copy()  # Fn = -int theta_k Tn dA: dFn/du_by = int theta_k Tn' N_b dA
         NW = N[None] * W[..., None]  # (k, g, a)
+        dJ = None
         if self.normal_per_current_area:  # theta_k = J_s: R_ay = ... + int N_a Tn J_s dA, Fn = -int Tn J_s dA
-            dJ = pts.dJ_du()
-            blocks[:, :, 1, :, :] += np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.Tn, dJ)
-            np.add.at(dFn_du, self.seg_dofs[act], -np.einsum("sg,gb,sg,sgi->sbi", W, dN, pts.Tn, dJ).reshape(len(act), -1))
+            if d == 3:
+                dJ = pts.dJ_du_3d(dN)  # (k, g, b, 3)
+                blocks[:, :, v, :, :] += np.einsum("sga,sg,sgbi->sabi", NW, pts.Tn, dJ)
+                dFn_dJ = -np.einsum("sg,sg,sgbi->sbi", W, pts.Tn, dJ)
+            else:
+                dJ = pts.dJ_du()
+                blocks[:, :, 1, :, :] += np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.Tn, dJ)
+                dFn_dJ = -np.einsum("sg,gb,sg,sgi->sbi", W, dN, pts.Tn, dJ)
+            np.add.at(dFn_du, self.seg_dofs[act], dFn_dJ.reshape(len(act), -1))
         Ft = 0.0
         if pts.Tt is not None:
-            np.add.at(f, 2 * seg, np.einsum("ga,sg,sg->sa", N, pts.Tt, W))
-            Ft = float(np.sum(pts.Tt * W))
-            # R_ax = ... - int N_a T_t dA; T_t depends on x_x (stick), g_n = h - y and J_s (slip)
-            blocks[:, :, 0, :, 0] -= np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dx)
-            blocks[:, :, 0, :, 1] += np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dg)  # dg/dy = -1
-            blocks[:, :, 0, :, :] -= np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.dTt_dJ, pts.dJ_du())
-            np.add.at(dR_dh, 2 * seg, -np.einsum("sga,sg->sa", NW, pts.dTt_dg))
+            Ft = self._add_tangential_force(f, pts, W, seg)
+            if d == 3:
+                self._friction_blocks_3d(blocks, dR_dh, pts, NW, seg, dJ if dJ is not None else pts.dJ_du_3d(dN))
+            else:
+                # R_ax = ... - int N_a T_t dA; T_t depends on x_x (stick), g_n = h - y and J_s (slip)
+                blocks[:, :, 0, :, 0] -= np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dx)
+                blocks[:, :, 0, :, 1] += np.einsum("sga,gb,sg->sab", NW, N, pts.dTt_dg)  # dg/dy = -1
+                blocks[:, :, 0, :, :] -= np.einsum("sga,gb,sg,sgi->sabi", NW, dN, pts.dTt_dJ, pts.dJ_du())
+                np.add.at(dR_dh, 2 * seg, -np.einsum("sga,sg->sa", NW, pts.dTt_dg))
         return ContactLinearization(
             f=f, Fn=self.whole(float(-np.sum(pts.Tn_ref * W))), Ft=self.whole(Ft),
             blocks=blocks.reshape(len(act), d * p1, d * p1), active_segments=act, dR_dh=dR_dh,
             dFn_du=self.whole(dFn_du), dFn_dh=self.whole(float(-np.sum(dTn * W))),
         )
+
+    def _friction_blocks_3d(self, blocks, dR_dh, pts: _Points, NW: np.ndarray, seg: np.ndarray, dJ: np.ndarray):
+        """3D: adds the friction tractions' derivatives to the blocks (k, a, 3, b, 3) and dR/dh. R_ai (i = x, y)
+        = ... - int N_a T_i dA; T depends on the in-plane position (stick), on g_n = h - z and on J_s (slip)."""
+        N = self.quad.N
+        blocks[:, :, :2, :, :2] -= np.einsum("sga,gb,sgij->saibj", NW, N, pts.dTt_dx)
+        blocks[:, :, :2, :, 2] += np.einsum("sga,gb,sgi->saib", NW, N, pts.dTt_dg)  # dg/dz = -1
+        blocks[:, :, :2, :, :] -= np.einsum("sga,sgi,sgbj->saibj", NW, pts.dTt_dJ, dJ)
+        np.add.at(dR_dh, 3 * seg[..., None] + np.arange(2), -np.einsum("sga,sgi->sai", NW, pts.dTt_dg))
 
     def adhesion_energy(self, u: np.ndarray, h: float) -> float:
         """The adhesive potential of the interface per unit width (E L0^2), sum of phi(g_n) dA
@@ -299,19 +289,25 @@ class SurfaceContact:
         return self.whole(float(np.sum(phi * W))) if not self.normal_per_current_area else float("nan")
 
     # -- friction history ---------------------------------------------------
+    def _in_plane(self, x: np.ndarray, ubar: float) -> np.ndarray:
+        """Positions in the substrate's frame: x - ubar (s, g) in 2D, (x - ubar, y) (s, g, 2) in 3D."""
+        return x[..., 0] - ubar if self.dim == 2 else x[..., :2] - np.array([ubar, 0.0])
+
     def anchors_at(self, u: np.ndarray, ubar: float = 0.0) -> np.ndarray:
-        """Anchors of every point where it is: zero tangential gap, (s, g)."""
+        """Anchors of every point where it is: zero tangential gap, (s, g); 3D: (s, g, 2)."""
         x, _ = self.quad.current(u)
-        return x[..., 0] - ubar
+        return self._in_plane(x, ubar)
 
     def tangential_state(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
                          slip: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Per point (s, g): tangential traction T_t and slip states (:class:`capslide.states.SlipState`).
+        """Per point (s, g): tangential traction T_t (3D: (s, g, 2), x and y) and slip states
+        (:class:`capslide.states.SlipState`).
 
         Points in contact where no friction acts (no law, or no anchors yet) report FRICTIONLESS.
         """
-        Tt = np.zeros(self.quad.weight.shape)
-        state = np.full(Tt.shape, SlipState.FREE, dtype=np.int8)
+        points = self.quad.weight.shape
+        Tt = np.zeros(points if self.dim == 2 else (*points, 2))
+        state = np.full(points, SlipState.FREE, dtype=np.int8)
         g, _ = self.gaps(u, h)
         in_contact = g <= self.contact_gap
         if self.friction_active(anchors):
@@ -332,4 +328,4 @@ class SurfaceContact:
         x, _ = self.quad.current(u)
         Tt, _ = self.tangential_state(u, h, ubar, anchors, slip)
         # anchor such that -eps_t (x - xi - ubar) = T_t
-        return x[..., 0] - ubar + Tt / self.eps_t
+        return self._in_plane(x, ubar) + Tt / self.eps_t

@@ -72,6 +72,13 @@ def _model_style(cases, model: str):
     return MODEL_STYLE.get(key, ("0.3", ":", f"{model} ({kind}, s_cut = {s_cut:g})" if kind == "EA" else model))
 
 
+def _units(cases) -> dict[str, str]:
+    """Axis texts of the cube's forces and areas: per unit width W of the 2D cap, the whole sphere's in 3D."""
+    if str(cases.attrs.get("mesh_element")) == "H1":
+        return {"Ft": r"$F_\mathrm{t}\,/\,(E L_0^2)$", "area": r"contact area $A\,/\,L_0^2$", "Fn": r"F_\mathrm{n}/E L_0^2"}
+    return {"Ft": r"$F_\mathrm{t}\,/\,(E L_0 W)$", "area": r"contact area $A\,/\,L_0$", "Fn": r"F_\mathrm{n}^*"}
+
+
 def _slide_curve(cases, model: str, preload: float) -> dict[str, np.ndarray]:
     """ubar, Ft and area over the slide of one case of the cube."""
     case = cases.sel(model=model, preload=preload)
@@ -98,6 +105,7 @@ def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0
     """
     full = _cases(cases, full_slides=True)
     preloads = sorted({f for _, f in full})
+    units = _units(cases)
     fig, axes = plt.subplots(len(preloads), 2, figsize=(DOUBLE_COLUMN, 2.0 * len(preloads) + 0.4), squeeze=False)
     for row, F in zip(axes, preloads):
         for model in [m for m, f in full if f == F]:
@@ -113,8 +121,8 @@ def fig_cap_PxAndAc(cases, snapshot_ubar=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0
                     ax.plot(su, np.interp(su, c["ubar"], c[key]), "o", color=col, ms=2.5)
         kind = "compression" if F < 0 else ("tension" if F > 0 else "zero load")
         F_text = f"{F:+.3g}" if F else "0"
-        row[0].set(ylabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", title=fr"friction force, {kind}, $F_\mathrm{{n}}^* = {F_text}$")
-        row[1].set(ylabel=r"contact area $A\,/\,L_0$", title=fr"contact area, {kind}, $F_\mathrm{{n}}^* = {F_text}$")
+        row[0].set(ylabel=units["Ft"], title=fr"friction force, {kind}, ${units['Fn']} = {F_text}$")
+        row[1].set(ylabel=units["area"], title=fr"contact area, {kind}, ${units['Fn']} = {F_text}$")
     for ax in axes[-1]:
         ax.set_xlabel(r"tangential displacement $\bar{u}\,/\,L_0$")
     handles, labels = axes[0, 0].get_legend_handles_labels()
@@ -142,7 +150,7 @@ def fig_cap_FtOverA(cases, tau_DI: float | None = None):
             ax.text(0.02, tau_DI, r" $\tau_\mathrm{DI}$", transform=ax.get_yaxis_transform(), va="bottom", fontsize=7)
         kind = "compression" if F < 0 else ("tension" if F > 0 else "zero load")
         ax.set(xlabel=r"tangential displacement $\bar{u}\,/\,L_0$",
-               title=fr"{kind}, $F_\mathrm{{n}}^* = {F:+.3g}$" if F else r"zero load, $F_\mathrm{n}^* = 0$")
+               title=fr"{kind}, ${_units(cases)['Fn']} = {F:+.3g}$" if F else fr"zero load, ${_units(cases)['Fn']} = 0$")
     axes[0, 0].set_ylabel(r"mean shear stress $F_\mathrm{t}\,/\,(A\,E)$")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, 0.0))
@@ -180,11 +188,11 @@ def fig_cap_PxOverAc(cases, tau_DI: float | None = None):
         A = np.linspace(0, ax.get_ylim()[1], 10)
         handles += ax.plot(tau_DI * A, A, ":", color="k", lw=0.8, zorder=1)
         labels.append(r"$F_\mathrm{t} = \tau_\mathrm{DI} A$")
-    ax.set(xlabel=r"$F_\mathrm{t}\,/\,(E L_0 W)$", ylabel=r"contact area $A\,/\,L_0$", xlim=(0, None), ylim=(0, None),
+    ax.set(xlabel=_units(cases)["Ft"], ylabel=_units(cases)["area"], xlim=(0, None), ylim=(0, None),
            title="contact area against friction force up to full sliding")
     first = ax.legend(handles, labels, loc="lower right", fontsize=5.5)
     ax.add_artist(first)
-    keys = [Line2D([], [], ls="none", marker=marker[f], color="0.3", ms=3.5, label=fr"$F_\mathrm{{n}}^* = {f:+.3g}$")
+    keys = [Line2D([], [], ls="none", marker=marker[f], color="0.3", ms=3.5, label=fr"${_units(cases)['Fn']} = {f:+.3g}$")
             for f in preloads]
     # right of the tau A line, above the models' key: the one region no curve of the study crosses
     ax.legend(handles=keys, loc="lower right", bbox_to_anchor=(1.0, 0.27), fontsize=5.5,

@@ -1,5 +1,6 @@
-"""Figures of a 3D sphere case (mesh.element = H1): the normal traction over the contact plane, and the load
-against the contact radius with the JKR and Maugis-Dugdale spheres."""
+"""Figures of a 3D sphere case (mesh.element = H1): the normal traction over the contact plane, the load against
+the contact radius with the JKR and Maugis-Dugdale spheres, and the contact and stick-zone outlines seen from above
+during the slide."""
 
 from __future__ import annotations
 
@@ -12,15 +13,22 @@ from matplotlib.tri import Triangulation
 
 from ..laws import analytic, sphere
 from ..params import Parameters
-from .style import BLUE, ORANGE, SINGLE_COLUMN
+from ..states import Phase
+from .style import BLUE, DOUBLE_COLUMN, ORANGE, SINGLE_COLUMN
 
-__all__ = ["fig_sphere_Tn", "fig_sphere_Pa"]
+__all__ = ["fig_sphere_Tn", "fig_sphere_Pa", "fig_sphere_Aczoom"]
 
 
-def fig_sphere_Tn(case, params: Parameters, step: int = -1):
-    """The normal traction Tn / E over the current contact plane at ``step`` (default: the last), the half model's
-    surface points mirrored to the whole contact (positive = compressive; the tensile ring is the cohesive zone)."""
-    s = case.isel(step=step)
+def _normal_steps(case) -> np.ndarray:
+    """The steps before the slide (approach, spread, preload)."""
+    return np.flatnonzero(case.phase.values != Phase.SLIDE)
+
+
+def fig_sphere_Tn(case, params: Parameters, step: int | None = None):
+    """The normal traction Tn / E over the current contact plane at ``step`` (default: the preloaded state, the
+    last step before the slide), the half model's surface points mirrored to the whole contact (positive =
+    compressive; the tensile ring is the cohesive zone)."""
+    s = case.isel(step=int(_normal_steps(case)[-1]) if step is None else step)
     x, y, Tn = (np.asarray(s[k].values, dtype=float) for k in ("x_current", "y_current", "traction_n"))
     reach = 1.3 * max(float(s.x_right - s.x_left) / 2, 1e-9) if np.isfinite(float(s.x_right)) else np.abs(x).max()
     near = np.hypot(x, y) <= reach
@@ -40,14 +48,14 @@ def fig_sphere_Tn(case, params: Parameters, step: int = -1):
 
 
 def fig_sphere_Pa(case, params: Parameters):
-    """The load P = -Fn against the contact radius a = sqrt(A / pi) along the path (Johnson and Greenwood's
+    """The load P = -Fn against the contact radius a = sqrt(A / pi) along the normal path (Johnson and Greenwood's
     dimensionless P / (pi W R) and a (K / (pi W R^2))^(1/3)), with JKR and the Maugis-Dugdale sphere at the case's
     lambda (Maugis 1992)."""
     R, a = params.geometry.R, params.adhesion
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     scales = sphere.md_scales(R, E_star, a.W_adh)
     lam = sphere.maugis_parameter_sphere(R, E_star, a.W_adh, a.T_max)
-    contact = case.area.values > 0
+    contact = (case.area.values > 0) & (case.phase.values != Phase.SLIDE)
     A_fe = np.sqrt(case.area.values[contact] / math.pi) / scales["radius"]
     P_fe = -case.Fn.values[contact] / scales["load"]
     A = np.linspace(0.02, max(2.6, 1.05 * float(A_fe.max()) if len(A_fe) else 2.6), 300)
@@ -60,5 +68,41 @@ def fig_sphere_Pa(case, params: Parameters):
     ax.set_ylabel(r"$P/\pi W R$ (compressive $> 0$)")
     ax.set_ylim(-2.2, max(3.0, float(P_fe.max()) * 1.1 if len(P_fe) else 3.0))
     ax.legend(frameon=False, loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
+def _loops(curve: np.ndarray) -> list[np.ndarray]:
+    """The polylines of a NaN-separated, NaN-padded outline."""
+    rows = np.isnan(curve[:, 0])
+    cut = np.flatnonzero(rows)
+    return [c[~np.isnan(c[:, 0])] for c in np.split(curve, cut) if np.count_nonzero(~np.isnan(c[:, 0])) > 2]
+
+
+def fig_sphere_Aczoom(case, params: Parameters, panels: int = 8):
+    """The contact seen from above at the slide's snapshots (the 3D f:cap:Aczoom): the contact outline (line) and
+    the stick zone (shaded), in the current x, y plane; the substrate slides along +x."""
+    ubar = case.snapshot_ubar.values[:panels]
+    cols = min(4, len(ubar))
+    rows = -(-len(ubar) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(DOUBLE_COLUMN, 1.9 * rows + 0.3), squeeze=False, sharex=True,
+                             sharey=True)
+    for k, ax in enumerate(axes.ravel()):
+        if k >= len(ubar):
+            ax.set_visible(False)
+            continue
+        outline = np.column_stack([case.outline_x[k].values, case.outline_y[k].values])
+        stick = np.column_stack([case.stick_outline_x[k].values, case.stick_outline_y[k].values])
+        for loop in _loops(stick):
+            ax.fill(loop[:, 0], loop[:, 1], color=BLUE, alpha=0.35, lw=0)
+        for loop in _loops(outline):
+            ax.plot(loop[:, 0], loop[:, 1], color="k", lw=0.8)
+        ax.set_aspect("equal")
+        ax.text(0.03, 0.04, fr"$\bar{{u}} = {float(ubar[k]):.2g}\,L_0$", transform=ax.transAxes, fontsize=7)
+    for ax in axes[-1]:
+        ax.set_xlabel(r"$x\,/\,L_0$ (current)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"$y\,/\,L_0$")
+    fig.suptitle("contact (line) and stick zone (shaded) seen from above; the substrate slides along $+x$", fontsize=8)
     fig.tight_layout()
     return fig

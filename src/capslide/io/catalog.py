@@ -70,7 +70,7 @@ VARIABLES = (
     Variable("x_right", STEP, "length", "right contact edge x", "current x of the right (leading) contact edge",
              "x_right", True),
     Variable("width_y", STEP, "length", "contact width along y",
-             "3D: the contact's current width across the sliding direction (the whole body's)", "width_y",
+             "3D: the contact's current width across the sliding direction (the whole body's)", "width_y", True,
              present="3d"),
     Variable("area_reference", STEP, "area", "reference contact area",
              "reference length of the contact (the contact area in the reference configuration)", "area_reference",
@@ -87,6 +87,9 @@ VARIABLES = (
              "elastic energy of the tangential penalty per unit width", "penalty_energy", True),
     Variable("Ft_over_area", STEP, "stress", "Ft / A", "mean shear stress in contact (NaN without contact)", None,
              True),
+    Variable("extent_ratio", STEP, "1", "contact extents' ratio x / y",
+             "3D: the contact's extent along x over its width along y, (x_right - x_left) / width_y (1: circular; NaN "
+             "without contact)", None, True, present="3d"),
     Variable("dissipation", STEP, "energy", "dissipated work",
              "frictional work dissipated up to the step, per unit width: sum over steps of -(Tt before + Tt after) "
              "/ 2 x slip x dA", None, True),
@@ -119,13 +122,17 @@ VARIABLES = (
              "traction_n", present="profiles"),
     Variable("traction_t", PROFILE, "stress", "tangential traction Tt", "on the cap per reference area, positive = +x",
              "traction_t", present="profiles"),
+    Variable("traction_t_y", PROFILE, "stress", "tangential traction Tt_y",
+             "3D: the y part of the tangential traction on the sphere per reference area, positive = +y "
+             "(with output.surface_profiles)", "traction_t_y", present="3d"),
     Variable("slip_state", PROFILE, "1", "friction state of the surface point", record="slip_state",
              present="profiles"),
     Variable("slip", PROFILE, "length", "accumulated slip",
-             "slip accumulated up to the step: the sum of |slip| of the steps, in contact", "slip", present="profiles"),
+             "slip accumulated up to the step: the sum of |slip| of the steps, in contact (3D: of the slip vector's "
+             "length)", "slip", present="profiles"),
     Variable("slip_rate", PROFILE, "1", "slip rate per unit ubar",
              "slip of the step per unit ubar, signed (+x: the cap slips in the sliding direction relative to the "
-             "substrate; NaN where ubar does not change)", present="profiles"),
+             "substrate; 3D: its x part; NaN where ubar does not change)", present="profiles"),
     # case scalars
     Variable("peak_Ft", SCALAR, "force", "peak Ft", "largest |Ft| while sliding (signed)", cube=True),
     Variable("onset_ubar", SCALAR, "length", "onset ubar", "ubar at the onset of full sliding (NaN: not reached)",

@@ -154,7 +154,7 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
         kw["newton_iterations"] = int(kw["newton_iterations"])
         kw["krylov_iterations"] = int(kw["krylov_iterations"])
         kw["steady_step"] = bool(kw.get("steady_step", 0.0))
-        kw.update({name: data[name][i] for name in RECORD_PROFILES})
+        kw.update({name: data[name][i] for name in RECORD_PROFILES if name in data})  # older files: no y parts
         out.append(StepRecord(**kw))
     return out
 
@@ -244,7 +244,9 @@ class CheckpointWriter:
         if new_snaps:
             self._chunk("snapshots", {"ubar": np.array([sn.ubar for sn in new_snaps]),
                                       "u": np.stack([sn.u for sn in new_snaps]),
-                                      "I1_sigma": np.stack([sn.I1_sigma for sn in new_snaps])}, len(new_snaps))
+                                      "I1_sigma": np.stack([sn.I1_sigma for sn in new_snaps]),
+                                      "h": np.array([sn.h for sn in new_snaps]),
+                                      "slip_state": np.stack([sn.slip_state for sn in new_snaps])}, len(new_snaps))
         self.n_records, self.n_snapshots = len(saved.records), len(saved.snapshots)
         arrays, state = state_arrays(saved.state)
         write_signed(self.path / STATE, arrays, {"config_sha256": self.config_sha, **state, "elapsed": saved.elapsed,
@@ -285,7 +287,10 @@ def _load(path: Path, config_yaml: str) -> SavedCase:
             records += records_of(part)
         else:
             check_snapshot_arrays(part)
-            snapshots += [Snapshot(float(u), part["u"][k], part["I1_sigma"][k]) for k, u in enumerate(part["ubar"])]
+            n = len(part["ubar"])  # older files: no height and friction states
+            h, states = part.get("h", np.full(n, np.nan)), part.get("slip_state", np.zeros((n, 0), dtype=np.int8))
+            snapshots += [Snapshot(float(u), part["u"][k], part["I1_sigma"][k], float(h[k]), states[k].astype(np.int8))
+                          for k, u in enumerate(part["ubar"])]
     return SavedCase(path_state(data, meta), records, snapshots, meta["elapsed"], source=f"checkpoint '{path}'")
 
 

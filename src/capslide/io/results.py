@@ -21,6 +21,7 @@ import yaml
 
 from ..config import flatten
 from ..fem.mesh import Mesh
+from ..loadpath.contact_patch import snapshot_outlines
 from ..loadpath.measures import case_energies, surface_reference_x
 from ..states import Phase, SlipState, flag_attributes
 from ..version import software_version
@@ -153,15 +154,46 @@ def _attrs(name: str, units: Mapping[str, str], dim: int = 2, **values) -> dict:
                     v.description.format(**values) if values else v.description)
 
 
-def _slip_profiles(recs, slip: np.ndarray, u: Mapping[str, str]) -> dict:
+def _slip_profiles(recs, slip: np.ndarray, u: Mapping[str, str], slip_y: np.ndarray | None = None) -> dict:
     """Accumulated slip and slip rate per unit ubar of each surface point in contact (slip: the anchors' moves of
-    the steps, signed)."""
+    the steps along x, signed; 3D: ``slip_y`` their moves along y, and the accumulated slip sums the moves' lengths)."""
     state = np.stack([r.slip_state for r in recs]) if recs else np.zeros(slip.shape, dtype=np.int8)
-    slip = np.where((state == SlipState.STICK) | (state == SlipState.SLIP), slip, 0.0)
+    in_contact = (state == SlipState.STICK) | (state == SlipState.SLIP)
+    slip = np.where(in_contact, slip, 0.0)
     dubar = np.diff([r.ubar for r in recs], prepend=recs[0].ubar if recs else 0.0)[:, None]
     rate = np.divide(slip, dubar, out=np.full(slip.shape, np.nan), where=dubar != 0.0)
-    return {"slip": (PROFILE, np.cumsum(np.abs(slip), axis=0), _attrs("slip", u)),
+    moved = np.abs(slip) if slip_y is None else np.hypot(slip, np.where(in_contact, slip_y, 0.0))
+    return {"slip": (PROFILE, np.cumsum(moved, axis=0), _attrs("slip", u)),
             "slip_rate": (PROFILE, rate, _attrs("slip_rate", u))}
+
+
+def _outline_variables(mesh: Mesh, snaps, area_gap: float, u: Mapping[str, str]) -> dict:
+    """3D: each snapshot's contact outline and stick-zone outline in the contact plane (the whole body's, closed
+    polylines joined by a NaN row, padded with NaN; :func:`capslide.loadpath.contact_patch.snapshot_outlines`)."""
+    faces = mesh.surface_segments
+    curves = {"outline": [], "stick_outline": []}
+    for sn in snaps:
+        x = mesh.nodes + sn.u
+        states = sn.slip_state.reshape(len(faces), -1) if sn.slip_state.size else np.zeros((len(faces), 1))
+        contact, stick = snapshot_outlines(x, sn.h - x[:, 2], faces, np.mean(states == SlipState.STICK, axis=1), area_gap,
+                                           mirror_y=len(mesh.symmetry) > 0)
+        curves["outline"].append(contact)
+        curves["stick_outline"].append(stick)
+    what = {"outline": "the contact's edge (g_n = the contact gap, from the nodal gaps)",
+            "stick_outline": "the stick zone's edge (where half the surface points about a node stick; within about a "
+                             "face)"}
+    out = {}
+    for name, polys in curves.items():
+        n = max((len(c) for c in polys), default=0)
+        padded = np.full((len(polys), n, 2), np.nan)
+        for k, c in enumerate(polys):
+            padded[k, :len(c)] = c
+        for axis, label in enumerate("xy"):
+            out[f"{name}_{label}"] = (("snapshot_ubar", f"{name}_point"), padded[..., axis],
+                                      quantity(f"{label} of the {name.replace('_', ' ')}", u["length"], "L0",
+                                               f"3D: current {label} of {what[name]}, seen from above: closed polylines "
+                                               "of the whole body, a row of NaN between two, NaN-padded"))
+    return out
 
 
 def case_dataset(result, history: str | None = None) -> xr.Dataset:
@@ -186,13 +218,19 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
         "base_force_y": ("step", np.array([r.reaction[1] for r in recs], dtype=float), _attrs("base_force_y", u, d)),
     })
     if d == 3:
+        width = step("width_y")
+        data["extent_ratio"] = ("step", np.divide(step("x_right") - step("x_left"), width,
+                                                  out=np.full(len(recs), np.nan), where=width > 0),
+                                _attrs("extent_ratio", u, d))
         data["base_force_z"] = ("step", np.array([r.reaction[2] for r in recs], dtype=float), _attrs("base_force_z", u, d))
     if p.output.surface_profiles:
         data.update({name: (PROFILE, prof(variable(name).record), _attrs(name, u, d))
                      for name in ("x_current", "y_current", "gap", "traction_n", "traction_t")})
         data["slip_state"] = (PROFILE, prof("slip_state", np.int8),
                               flag_attributes(SlipState, variable("slip_state").long_name))
-        data.update(_slip_profiles(recs, prof("slip"), u))
+        if d == 3:
+            data["traction_t_y"] = (PROFILE, prof("traction_t_y"), _attrs("traction_t_y", u, d))
+        data.update(_slip_profiles(recs, prof("slip"), u, prof("slip_y") if d == 3 else None))
     data.update({name: ((), result.scalars[name], _attrs(name, u, d)) for name in case_scalars()})
     snaps = result.snapshots
     k, nn, nc = len(snaps), mesh.n_nodes, mesh.n_cells
@@ -209,6 +247,8 @@ def case_dataset(result, history: str | None = None) -> xr.Dataset:
                      quantity("I1(sigma)", u["stress"], "E",
                              "first invariant of the Cauchy stress (with sigma_zz), cell average")),
     })
+    if d == 3 and snaps and all(np.isfinite(sn.h) for sn in snaps):
+        data.update(_outline_variables(mesh, snaps, p.contact.area_gap, u))
     coords = {
         "step": ("step", np.arange(len(recs), dtype=np.int32), quantity("converged load step", "1")),
         "phase": ("step", step("phase", np.int8), flag_attributes(Phase, variable("phase").long_name)),

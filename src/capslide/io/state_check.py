@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 
 from ..loadpath.cap import LEGS
-from ..loadpath.measures import RECORD_PROFILES, RECORD_SCALARS
-from ..states import Phase, Status
+from ..loadpath.measures import RECORD_PROFILES, RECORD_PROFILES_3D, RECORD_SCALARS
+from ..states import Phase, SlipState, Status
 
 __all__ = ["SavedStateMismatch", "BadField", "check_header", "check_arrays", "check_record_arrays", "check_snapshot_arrays",
            "shape_problem"]
@@ -146,10 +146,19 @@ def check_arrays(data: Mapping[str, np.ndarray], meta: Mapping) -> None:
 
 
 def check_snapshot_arrays(part: Mapping[str, np.ndarray]) -> None:
-    """A chunk of field snapshots: ubar (n,), u (n, nodes, 2), I1_sigma (n, cells), float and finite."""
-    for name, ndim in (("ubar", 1), ("u", 3), ("I1_sigma", 2)):
+    """A chunk of field snapshots: ubar (n,), u (n, nodes, 2), I1_sigma (n, cells), float and finite; h (n,) and
+    slip_state (n, points), friction states, where present (older files lack them)."""
+    for name, ndim in (("ubar", 1), ("u", 3), ("I1_sigma", 2), ("h", 1), ("slip_state", 2)):
         if name not in part:
+            if name in ("h", "slip_state"):
+                continue
             raise BadField(f"snapshots.{name}", "is missing")
+        if name == "slip_state":
+            if not np.all(np.isin(part[name], [int(s) for s in SlipState])):
+                raise BadField("snapshots.slip_state", "holds values that are not friction states")
+            if len(part[name]) != len(part["ubar"]):
+                raise BadField("snapshots.slip_state", f"has {len(part[name])} entries, not {len(part['ubar'])}")
+            continue
         _float_array(part[name], f"snapshots.{name}", ndim, integer=name == "ubar")  # ubar as the config gives it
         if len(part[name]) != len(part["ubar"]):
             raise BadField(f"snapshots.{name}", f"has {len(part[name])} entries, not {len(part['ubar'])}")
@@ -178,6 +187,8 @@ def check_record_arrays(data: Mapping[str, np.ndarray], where: str = "") -> int:
         raise BadField(f"{where}phase", "holds values that are not phases")
     for name in RECORD_PROFILES:
         if name not in data:
+            if name in RECORD_PROFILES_3D:  # older files: no y parts, which are empty in 2D
+                continue
             raise BadField(f"{where}{name}", "is missing")
         a = data[name]
         if not np.issubdtype(a.dtype, np.number) or a.ndim != 2 or len(a) != n:
@@ -203,12 +214,14 @@ def shape_problem(saved, shapes: Mapping[str, tuple[int, ...]]) -> str | None:
         arrays.update({f"records[{k}].{name}": getattr(rec, name) for name in RECORD_PROFILES})
     for k, sn in enumerate(saved.snapshots):
         arrays.update({f"snapshots[{k}].u": sn.u, f"snapshots[{k}].I1_sigma": sn.I1_sigma})
+        if sn.slip_state.size:
+            arrays[f"snapshots[{k}].slip_state"] = sn.slip_state
     for name, a in arrays.items():
         if a is None:
             continue
         key = name.split(".")[-1] if name.startswith(("records[", "snapshots[")) else name
-        key = {"u": "snapshot_u", "I1_sigma": "snapshot_I1_sigma", "reaction": "reaction"}.get(
-            key, "profile" if name.startswith("records[") else key)
+        key = {"u": "snapshot_u", "I1_sigma": "snapshot_I1_sigma", "reaction": "reaction", "slip_state": "profile"}.get(
+            key, ("profile_3d" if key in RECORD_PROFILES_3D else "profile") if name.startswith("records[") else key)
         if key not in shapes:
             return f"field '{name}' does not belong to this model"
         if tuple(np.shape(a)) != tuple(shapes[key]):

@@ -21,6 +21,7 @@ __all__ = [
     "ea_g_cut",
     "ea_threshold",
     "return_map",
+    "vector_return_map",
 ]
 
 
@@ -128,6 +129,28 @@ def return_map(T_trial, threshold):
     dT_dthreshold = np.where(slipping, sign, 0.0)
     return T, slipping, dT_dtrial, dT_dthreshold
 
+
+def vector_return_map(T_trial, threshold, magnitude_map=return_map):
+    """Isotropic stick/slip return map of a tangential trial traction vector (..., 2) in the contact plane (3D; the
+    radial return of Coulomb-type friction, Wriggers 2006, Computational Contact Mechanics, section 5.2).
+
+    Stick where |T_trial| <= threshold: T = T_trial. Slip elsewhere: T = |T| n, n = T_trial / |T_trial|, with the
+    magnitude |T| from ``magnitude_map(|T_trial|, threshold)`` (:func:`return_map`: |T| = threshold; or a partial
+    :func:`weakening_return_map`). Returns ``(T (..., 2), slipping, dT/dT_trial (..., 2, 2), dT/dthreshold (..., 2))``:
+    in slip dT/dT_trial = d|T|/d|T_trial| n n^T + |T| / |T_trial| (I - n n^T), dT/dthreshold = d|T|/dthreshold n.
+    """
+    T_trial = np.asarray(T_trial, dtype=float)
+    m = np.linalg.norm(T_trial, axis=-1)
+    T_abs, slipping, dabs_dm, dabs_dthr = magnitude_map(m, threshold)
+    n = T_trial / np.where(m > 0.0, m, 1.0)[..., None]
+    eye = np.eye(T_trial.shape[-1])
+    nn = n[..., :, None] * n[..., None, :]
+    ratio = T_abs / np.where(slipping, m, 1.0)
+    slip_tangent = dabs_dm[..., None, None] * nn + ratio[..., None, None] * (eye - nn)
+    T = np.where(slipping[..., None], T_abs[..., None] * n, T_trial)
+    dT_dtrial = np.where(slipping[..., None, None], slip_tangent, eye)
+    dT_dthreshold = np.where(slipping[..., None], dabs_dthr[..., None] * n, 0.0)
+    return T, slipping, dT_dtrial, dT_dthreshold
 
 
 def weakening_return_map(T_trial, kinetic, slip, ratio, D_c, eps_t):

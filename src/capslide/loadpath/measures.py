@@ -11,14 +11,14 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from ..fem.interface import SurfaceQuadrature
+from ..fem.surface import SurfaceQuadrature, stretch
 from ..laws import contact
 from ..model.system import CapModel, History
 from ..states import Phase, SlipState
 from .contact_patch import contact_patch
 
-__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "Snapshot", "measure", "field_snapshot", "dissipation",
-           "external_work_and_residual", "surface_reference_x", "case_energies",
+__all__ = ["StepRecord", "RECORD_SCALARS", "RECORD_PROFILES", "RECORD_PROFILES_3D", "Snapshot", "measure", "field_snapshot",
+           "dissipation", "external_work_and_residual", "surface_reference_x", "case_energies",
            "interval_measures", "fully_sliding", "sliding_onset", "peeling_off"]
 
 
@@ -56,10 +56,14 @@ class StepRecord:
     time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
     steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
     width_y: float = math.nan  # 3D: the contact's width along y, the whole body's (L0); NaN in 2D
+    traction_t_y: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # 3D: T_t's y part; 2D: empty
+    slip_y: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # 3D: the anchors' y move; 2D: empty
 
 
-# The record's fields, from its definition: scalars, and arrays (per surface point; the base reaction)
+# The record's fields, from its definition: scalars, and arrays (per surface point; the base reaction); the y parts of
+# the tangential vectors are empty in 2D
 RECORD_PROFILES = tuple(f.name for f in fields(StepRecord) if f.type == "np.ndarray")
+RECORD_PROFILES_3D = ("traction_t_y", "slip_y")
 RECORD_SCALARS = tuple(f.name for f in fields(StepRecord) if f.name not in RECORD_PROFILES)
 
 
@@ -70,6 +74,8 @@ class Snapshot:
     ubar: float
     u: np.ndarray  # (n_nodes, d), L0
     I1_sigma: np.ndarray  # (n_cells,), E
+    h: float = math.nan  # the substrate's height (L0; NaN: not kept, older files)
+    slip_state: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int8), repr=False)  # per surface point
 
 
 def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar: float, newton_its: int,
@@ -86,9 +92,9 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     pts, gg, tn, st = xs.reshape(-1, model.dim), g.ravel(), Tn.ravel(), state.ravel()
     open_gap = gg - model.params.contact.area_gap
     width = math.nan
-    if model.dim == 3:  # frictionless: no stick area
+    if model.dim == 3:
         area, xl, xr, width, area_r, area_c = _patch_measures(model, u, h)
-        area_s, sl, sr = 0.0, math.nan, math.nan
+        area_s, sl, sr = _stick_measures(model, u, xs, state)
     else:
         area, xl, xr = interval_measures(pts, open_gap)
         area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
@@ -97,17 +103,23 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
         area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
         area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
         sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
-    slip = np.zeros_like(gg)
+    slip = np.zeros(Tt.shape)
     if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
-        slip = (c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors).ravel()
+        slip = c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors
     # the penalty's elastic energy: T_t = -eps_t times the elastic tangential gap after the step
-    penalty = float(np.sum(Tt.ravel() ** 2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
+    Tt2 = Tt.ravel() ** 2 if model.dim == 2 else np.sum(Tt**2, axis=-1).ravel()
+    penalty = float(np.sum(Tt2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
+    if model.dim == 3:  # the tangential vectors' x parts in the profiles, their y parts beside them
+        penalty = c.whole(penalty)
+        Tt, Tt_y, slip, slip_y = Tt[..., 0], Tt[..., 1].ravel().copy(), slip[..., 0], slip[..., 1].ravel().copy()
+    else:
+        Tt_y, slip_y = np.zeros(0), np.zeros(0)
     return StepRecord(phase, ubar, h, Fn, Ft, area, area_c, area_s, xl, xr, newton_its, krylov_its, wall,
                       pts[:, 0].copy(), pts[:, 1].copy(), gg.copy(), tn.copy(), Tt.ravel().copy(), st.copy(),
                       model.base_reaction(x, history, dt), area_reference=area_r, x_stick_left=sl, x_stick_right=sr,
                       elastic_energy=model.strain_energy(x, history, dt),
                       adhesion_energy=c.adhesion_energy(u, h), penalty_energy=penalty,
-                      slip=slip, time=history.time + dt, width_y=width)
+                      slip=slip.ravel(), time=history.time + dt, width_y=width, traction_t_y=Tt_y, slip_y=slip_y)
 
 
 def _patch_measures(model: CapModel, u: np.ndarray, h: float) -> tuple[float, ...]:
@@ -125,10 +137,30 @@ def _patch_measures(model: CapModel, u: np.ndarray, h: float) -> tuple[float, ..
     return patch.area, patch.x_left, patch.x_right, patch.width_y, reference.area, compressive.area
 
 
-def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None) -> Snapshot:
-    """Nodal displacements and the cell-averaged I1(sigma) of the converged state x (``history``: the one after
-    it, with its pressure multiplier and viscous networks)."""
-    return Snapshot(ubar, x[:-1].reshape(-1, model.dim).copy(), model.cell_first_invariant(x, history or History()))
+def _stick_measures(model: CapModel, u: np.ndarray, xs: np.ndarray, state: np.ndarray) -> tuple[float, float, float]:
+    """3D: the current area of the sticking Gauss points in contact (the whole body's: the sum of their weights times
+    the area stretch J_s) and the smallest and largest current x among them (NaN: nothing sticks)."""
+    c = model.contact
+    stick = state == SlipState.STICK
+    if not stick.any():
+        return 0.0, math.nan, math.nan
+    _, t = c.quad.current(u)
+    J = stretch(t, c.quad.ref_measure, 3)
+    x = xs[..., 0][stick]
+    return c.whole(float(np.sum((c.quad.weight * J)[stick]))), float(x.min()), float(x.max())
+
+
+def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History | None = None,
+                   slip_state: np.ndarray | None = None) -> Snapshot:
+    """Nodal displacements, the cell-averaged I1(sigma), the height and the surface points' friction states of the
+    converged state x (``history``: the one after it, with its pressure multiplier and viscous networks;
+    ``slip_state``: the step record's, None: as the contact reports them at x with ``history``)."""
+    history = history or History()
+    if slip_state is None:
+        u, h = model.split(x)
+        slip_state = model.contact.tangential_state(u, h, ubar, history.anchors, history.slip)[1].ravel()
+    return Snapshot(ubar, x[:-1].reshape(-1, model.dim).copy(), model.cell_first_invariant(x, history), float(x[-1]),
+                    np.asarray(slip_state, dtype=np.int8).copy())
 
 
 def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float]:
@@ -203,15 +235,20 @@ def peeling_off(records: list[StepRecord], Fn: float, n: int = 4) -> bool:
 
 def dissipation(recs, weight: np.ndarray) -> np.ndarray:
     """Frictional work dissipated up to each step (E L0^2 per width): the sum over steps and surface points of
-    -(T_t before + T_t after) / 2 x the anchors' move x dA. With the trapezoidal work of the loads this closes the
-    energy balance of the return map's elastic-slip split exactly at every step (a spring-slider: T dx = T dx_e +
-    T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty energy T^2 / (2 eps_t))."""
+    -(T_t before + T_t after) / 2 . the anchors' move x dA (3D: both components). With the trapezoidal work of the
+    loads this closes the energy balance of the return map's elastic-slip split exactly at every step (a
+    spring-slider: T dx = T dx_e + T dxi, and (T0 + T1) / 2 (x_e1 - x_e0) is the exact change of the penalty
+    energy T^2 / (2 eps_t))."""
     if not recs:
         return np.zeros(0)
-    Tt = np.stack([r.traction_t for r in recs])
-    slip = np.stack([r.slip for r in recs])
-    before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
-    return np.cumsum(-0.5 * ((before + Tt) * slip) @ weight)
+    def work(traction: str, slip: str) -> np.ndarray:
+        Tt = np.stack([getattr(r, traction) for r in recs])
+        before = np.vstack([np.zeros_like(Tt[:1]), Tt[:-1]])  # friction starts with zero tangential gaps
+        return -0.5 * ((before + Tt) * np.stack([getattr(r, slip) for r in recs])) @ weight
+
+    if recs[0].traction_t_y.size == 0:  # 2D
+        return np.cumsum(work("traction_t", "slip"))
+    return np.cumsum(work("traction_t", "slip") + work("traction_t_y", "slip_y"))
 
 
 def external_work_and_residual(recs, dissipated: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -233,6 +270,7 @@ def surface_reference_x(mesh, n_gauss: int, axis: int = 0) -> np.ndarray:
 def case_energies(recs, mesh, n_gauss: int) -> dict[str, np.ndarray]:
     """The energy bookkeeping of a case's steps: ``dissipation``, ``external_work`` and ``energy_residual`` (E L0^2
     per width), with the weights of the surface quadrature the records were measured on."""
-    dissipated = dissipation(recs, SurfaceQuadrature.on(mesh, n_gauss).weight.ravel())
+    weight = SurfaceQuadrature.on(mesh, n_gauss).weight.ravel()
+    dissipated = dissipation(recs, 2.0 * weight if len(mesh.symmetry) else weight)  # a half model: the whole body's
     work, residual = external_work_and_residual(recs, dissipated)
     return {"dissipation": dissipated, "external_work": work, "energy_residual": residual}

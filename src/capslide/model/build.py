@@ -45,7 +45,7 @@ def sphere_cap_spec(params: Parameters) -> SphereCapSpec:
         P = max(1.0, -params.loading.preload / (math.pi * W * R))  # P = F / (pi W R), compressive
         band = 1.3 * scale * float(sphere.jkr_radius(P))
     return SphereCapSpec(R=g.R, H=g.H, h0=H0_AT_SIZE_1 * m.size, band_radius=band, max_size_over_H=m.max_size_over_H,
-                         max_layer_aspect=m.max_layer_aspect)
+                         max_layer_aspect=m.max_layer_aspect, whole=not m.symmetry_plane)
 
 
 def mesh_spec(params: Parameters) -> CapMeshSpec | SphereCapSpec:

@@ -32,7 +32,8 @@ __all__ = ["History", "BorderedSolve", "CapModel"]
 
 @dataclass(frozen=True)
 class History:
-    """State variables that change only at converged steps: the friction anchors (s, g), None before friction;
+    """State variables that change only at converged steps: the friction anchors (s, g; 3D: (s, g, 2), x and y),
+    None before friction;
     with slip weakening each point's accumulated slip (s, g), None without; at nu = 0.5 the augmented Lagrangian's
     pressure multiplier (n_cells, 3; P1 coefficients, E), None = zero (fem.mixed); with a viscoelastic bulk the
     branches' networks (fem.viscous), None = undeformed; the time of the state (s; 0 when quasi-static)."""
@@ -202,10 +203,13 @@ class CapModel:
     def saved_shapes(self) -> dict[str, tuple[int, ...]]:
         """The shapes of the arrays a saved state of this model holds (capslide.io.state_check): the state [u, h],
         the friction history per surface point, the pressure multiplier, the viscous branches' networks, a step
-        record's surface profile and base reaction, a snapshot's nodal displacements and cell invariant."""
+        record's surface profile (its y parts of the tangential vectors: empty in 2D) and base reaction, a
+        snapshot's nodal displacements and cell invariant."""
         points, n_dofs = self.contact.quad.X.shape[:-1], self.n_dofs + 1
-        shapes = {"x": (n_dofs,), "loop_x": (n_dofs,), "loop_x_prev": (n_dofs,), "anchors": points,
+        anchors = points if self.dim == 2 else (*points, 2)
+        shapes = {"x": (n_dofs,), "loop_x": (n_dofs,), "loop_x_prev": (n_dofs,), "anchors": anchors,
                   "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (self.dim,),
+                  "profile_3d": (int(np.prod(points)) if self.dim == 3 else 0,),
                   "snapshot_u": (self.mesh.n_nodes, self.dim), "snapshot_I1_sigma": (self.mesh.n_cells,)}
         if self.params.mesh.formulation == "mixed":
             shapes["pressure_multiplier"] = (self.mesh.n_cells, self.bulk.Np.shape[-1])
@@ -218,7 +222,7 @@ class CapModel:
     def start_friction(self, x: np.ndarray, ubar: float = 0.0, history: History | None = None) -> History:
         """``history`` (default: none) with every surface point anchored where it is (friction acts from here on)."""
         anchors = self.contact.anchors_at(x[:-1], ubar)
-        slip = None if self.contact.weakening is None else np.zeros_like(anchors)
+        slip = None if self.contact.weakening is None else np.zeros(self.contact.quad.weight.shape)
         return replace(history or History(), anchors=anchors, slip=slip)
 
     def commit(self, x: np.ndarray, ubar: float, history: History, dt: float = 0.0) -> History:
@@ -228,7 +232,9 @@ class CapModel:
         history = self.committed_bulk(x, history, dt)
         if history.slip is None:
             return replace(history, anchors=anchors)
-        return replace(history, anchors=anchors, slip=history.slip + np.abs(anchors - history.anchors))
+        moved = anchors - history.anchors
+        slip = np.abs(moved) if self.dim == 2 else np.linalg.norm(moved, axis=-1)  # 3D: the anchors' move in the plane
+        return replace(history, anchors=anchors, slip=history.slip + slip)
 
     def committed_bulk(self, x: np.ndarray, history: History, dt: float) -> History:
         """``history`` with the bulk's part (the viscous networks and the time) moved to the converged state x."""
