@@ -54,9 +54,13 @@ def test_di_sphere_slides_fully_at_tau_times_area(di_sphere):
     np.testing.assert_allclose(magnitude[slipping], t_slide[slipping], rtol=1e-12)
     Ft_theory = 2.0 * float(np.sum(t_slide * c.quad.weight.ravel()))
     assert float(last.Ft) == pytest.approx(Ft_theory, rel=1e-4)
-    # and close to tau x the contact area: within 2 % on this coarse mesh (the edge's cells; docs/sphere.md)
-    ratio = float(last.Ft) / (f.tau_DI * float(last.area))
-    print("Ft / (tau A) =", ratio)
+    # Ft = tau x A within 0.5 % with the area on the same quadrature (the points with g_n <= the contact gap); with
+    # the area from the nodal gaps (the file's), within 2 % on this coarse mesh: Ft's quadrature of the sharp
+    # logistic edge differs by part of a cell (docs/sphere.md)
+    A_points = 2.0 * float(np.sum((c.quad.weight * J)[g <= p.contact.area_gap]))
+    ratio_points, ratio = (float(last.Ft) / (f.tau_DI * A) for A in (A_points, float(last.area)))
+    print("Ft / (tau A): area on the surface points", ratio_points, "from the nodal gaps", ratio)
+    assert abs(ratio_points - 1.0) < 0.005
     assert abs(ratio - 1.0) < 0.02
     # the traction points along the slide: its y part (the contact's lateral shrinking) is small
     w = c.quad.weight.ravel()

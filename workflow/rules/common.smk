@@ -18,6 +18,8 @@ from capslide.config import (
     validate,
 )
 from capslide.loadpath.preload_targets import previous_target
+from capslide.model.build import mesh_spec
+from capslide.params import Parameters
 from capslide.studies.expansion import (
     check_runs,
     results_name,
@@ -163,11 +165,20 @@ def expand_scene_study(scene_file, spec, what):
 
 
 def scene_previous_state(scene_config, preload, computed):
-    """:func:`previous_state` for a scene's own loading (its retract_from and preload_via)."""
+    """:func:`previous_state` for a scene's own loading (its retract_from and preload_via), None also when the
+    two states' meshes differ (the 3D sphere's band radius grows with a compressive preload).
+    """
     loading = SimpleNamespace(
         preload=preload,
         retract_from=scene_config["loading"]["retract_from"],
         preload_via=tuple(scene_config["loading"]["preload_via"]),
     )
     previous = previous_target(loading, computed)
-    return None if previous is None else f"{previous:+.3f}"
+    mesh = lambda value: mesh_spec(
+        Parameters.from_config(
+            validate(apply_settings(scene_config, {"loading.preload": value}))
+        )
+    )
+    if previous is None or mesh(previous) != mesh(preload):
+        return None
+    return f"{previous:+.3f}"

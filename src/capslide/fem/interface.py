@@ -104,9 +104,9 @@ class SurfaceContact:
     the gap is measured along the last axis).
 
     ``law`` is the friction law (None: frictionless) and ``return_map`` its penalty and slip weakening; friction
-    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. On a half model (a mesh with a plane of
-    symmetry) the integrated quantities, Fn, Ft and the adhesion energy, and their derivatives, are the whole
-    body's: twice the half's (``multiplicity``); the force vector is the half's.
+    acts where anchors are given. ``normal_per_current_area``: theta_k = J_s instead of 1. On a half model (a mesh
+    with a plane of symmetry) the integrated quantities, Fn, Ft and the adhesion energy, and their derivatives, are
+    the whole body's: twice the half's (``multiplicity``); the force vector is the half's.
     """
 
     def __init__(self, mesh: Mesh, adhesion: Adhesion, n_gauss: int, far_gap: float, repulsion_only: bool = False,
