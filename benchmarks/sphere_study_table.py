@@ -1,8 +1,9 @@
 """The paper's study on the sphere in numbers (issue 40, docs/sphere.md): one row per case of the collected file of
 `snakemake --cores 2 sphere` (results/<config>/sphere/cases.nc), from the slide's records: the contact area at the
 preload A0, the peak Ft, the onset of full sliding (ubar, Ft, area), the area lost up to the onset, Ft / A and
-Ft / (tau_DI A) at the slide's end, the extents' ratio x / y at the onset, and how far the trailing (x_left) and the
-leading (x_right) contact edges moved up to the onset. Forces in E L0^2, areas in L0^2, lengths in L0.
+Ft / (tau_DI A) at the slide's end, the extents' ratio x / y at the onset, how far the trailing (x_left) and the
+leading (x_right) contact edges moved up to the onset, and Ft and the area at the slide's end over their onset
+values. Forces in E L0^2, areas in L0^2, lengths in L0.
 
     .venv/bin/python benchmarks/sphere_study_table.py results/paper/sphere/cases.nc
 """
@@ -39,6 +40,8 @@ def rows(cases: xr.Dataset):
                 "Ft/(tau A) end": Ft[end] / (tau * area[end]), "x/y at onset": ratio,
                 "trailing edge moved": float(c.x_left[k] - c.x_left[start]),
                 "leading edge moved": float(c.x_right[k] - c.x_right[start]),
+                "Ft end / onset Ft": Ft[end] / float(c.onset_Ft) if math.isfinite(onset) else math.nan,
+                "A end / onset A": area[end] / float(c.onset_area) if math.isfinite(onset) else math.nan,
                 "ubar end": ubar[end],
             }
 
