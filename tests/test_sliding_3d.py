@@ -150,3 +150,15 @@ def test_an_interrupted_3d_slide_resumes_bit_for_bit(tmp_path):
         for name in a.data_vars:
             if name != "wall_time":
                 np.testing.assert_array_equal(b[name].values, a[name].values, err_msg=name)
+
+
+def test_the_spring_of_the_sphere_is_in_newton_per_metre():
+    """The 2D cap's spring is per unit width (Pa, divided by E); the sphere's is the whole spring's (N/m, divided by
+    E L0): the experiment's 410 N/m cantilever on the sphere scene (E = 2 MPa, L0 = 1 um) is 205 E L0."""
+    spring = ["loading.normal_control=spring", "loading.spring_stiffness=410"]
+    assert Parameters.from_config(load_config(["sphere"], spring)).loading.spring_stiffness == pytest.approx(205.0)
+    assert Parameters.from_config(load_config(["cap"], spring)).loading.spring_stiffness == pytest.approx(410 / 2e6)
+    from capslide.config import ConfigError
+
+    with pytest.raises(ConfigError, match="at most 100000 x material.E x geometry.L0 = 200000 N/m"):
+        load_config(["sphere"], ["loading.normal_control=spring", "loading.spring_stiffness=3e5"])

@@ -148,12 +148,15 @@ def check_consistency(config: Mapping) -> None:
     load = config["loading"]
     if load["normal_control"] == "spring" and load["spring_stiffness"] is None:
         raise ConfigError("loading.spring_stiffness = None is not allowed with loading.normal_control = spring: "
-                          "give the spring's stiffness per unit width (Pa)")
+                          "give the spring's stiffness per unit width (Pa; in 3D, mesh.element = H1: N/m)")
     _check_no_op_keys(config)
     k, E = load["spring_stiffness"], config["material"]["E"]
-    if load["normal_control"] == "spring" and k / E > MAX_SPRING_OVER_E:
+    three_d = config["mesh"]["element"] == "H1"  # the sphere's spring in N/m: against E L0
+    scale, unit = (E * config["geometry"]["L0"], "N/m") if three_d else (E, "Pa")
+    if load["normal_control"] == "spring" and k / scale > MAX_SPRING_OVER_E:
         raise ConfigError(f"loading.spring_stiffness = {k!r} is not allowed: must be at most {MAX_SPRING_OVER_E:g} x "
-                          f"material.E = {MAX_SPRING_OVER_E * E:g} Pa (stiffer springs are height control to 1e-6 in Ft, and "
+                          f"material.E{' x geometry.L0' if three_d else ''} = {MAX_SPRING_OVER_E * scale:g} {unit} "
+                          "(stiffer springs are height control to 1e-6 in Ft, and "
                           "their constraint row loses Newton's convergence to round-off): use loading.normal_control = height")
     if config["contact"]["repulsion_only"] and preload > 0.0:
         raise ConfigError(f"loading.preload = {preload!r} is not allowed with contact.repulsion_only: "

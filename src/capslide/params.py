@@ -192,7 +192,7 @@ class Loading:
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
     preload_via: tuple[float, ...] = ()  # E L0: forces the preload lands on when it passes them
     normal_control: str = "force"  # while sliding: force, height or spring
-    spring_stiffness: float | None = None  # E (force per width per length) of normal_control = spring
+    spring_stiffness: float | None = None  # E (2D: force per width per length) or E L0 (3D) of normal_control = spring
     velocity: float | None = None  # L0/s: the stage's speed; None: quasi-static, no time
     dwell: float = 0.0  # s: hold at the preload before the slide
 
@@ -232,6 +232,13 @@ class SolverSpec:
     newton_max_iterations: int
     krylov_rtol: float
     factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
+
+
+def spring_unit(config: Mapping) -> float:
+    """What loading.spring_stiffness is divided by: E (Pa) for the 2D cap's spring per unit width (N/m per m), E L0
+    (N/m) for the 3D sphere's spring (mesh.element = H1)."""
+    E, L0 = config["material"]["E"], config["geometry"]["L0"]
+    return E * L0 if config["mesh"]["element"] == "H1" else E
 
 
 def _check_path_time(L: Loading, velocity_si: float | None) -> None:
@@ -313,7 +320,7 @@ class Parameters:
             min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
             slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
             normal_control=load["normal_control"],
-            spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / units.E,
+            spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / spring_unit(config),
             velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
             dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
         )
