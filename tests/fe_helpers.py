@@ -73,3 +73,19 @@ def check_bordered_jacobian(model, x, constraint, history, directions: int, seed
         v[-1] = rng.normal()
         fd = (model.residual(x + eps * v, constraint, history) - model.residual(x - eps * v, constraint, history)) / (2 * eps)
         np.testing.assert_allclose(apply_bordered_jacobian(solve, v), fd, atol=1e-6 * np.abs(fd).max())
+
+
+def pressed_sphere_state(model, shear: float = 0.0, seed: int = 0):
+    """A state [u, h] of a 3D sphere cap model (R = 47.1, H = 10) pressed up into the band of the adhesion law:
+    gaps on both sides of g_eq and beyond g_max; ``shear``: an x displacement growing to that at the top."""
+    rng = np.random.default_rng(seed)
+    X = model.mesh.nodes
+    a = model.params.adhesion
+    u = np.zeros(model.n_dofs)
+    r2 = X[:, 0] ** 2 + X[:, 1] ** 2
+    u[2::3] = 0.3 * a.r0 * np.exp(-r2 / 9.0) * X[:, 2] / 10
+    if shear:
+        u[0::3] = shear * X[:, 2] / 10
+    u += 1e-3 * a.r0 * rng.normal(size=model.n_dofs)
+    u[model.bc.dofs] = 0.0
+    return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])

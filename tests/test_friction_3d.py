@@ -18,7 +18,7 @@ from capslide.params import Parameters
 from capslide.solvers.linsolve import make_solver
 
 from conftest import PAPER_CONFIG
-from fe_helpers import check_bordered_jacobian
+from fe_helpers import check_bordered_jacobian, pressed_sphere_state
 
 
 def _trials(n=400, seed=2):
@@ -106,19 +106,6 @@ def _model(config_items: tuple) -> CapModel:
     return CapModel(mesh, p, make_solver("amg", near_null_space=rigid_body_modes(mesh.nodes)))
 
 
-def _pressed(model, seed=0):
-    """The cap pressed up into the band of the adhesion law (gaps on both sides of g_eq and beyond g_max)."""
-    rng = np.random.default_rng(seed)
-    X = model.mesh.nodes
-    a = model.params.adhesion
-    u = np.zeros(model.n_dofs)
-    r2 = X[:, 0] ** 2 + X[:, 1] ** 2
-    u[2::3] = 0.3 * a.r0 * np.exp(-r2 / 9.0) * X[:, 2] / 10
-    u += 1e-3 * a.r0 * rng.normal(size=model.n_dofs)
-    u[model.bc.dofs] = 0.0
-    return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])
-
-
 FRICTION = {
     "DI": ("friction.model=DI",),
     "DI_current_normal": ("friction.model=DI", "contact.normal_traction_area=current"),
@@ -134,7 +121,7 @@ def test_bordered_jacobian_with_friction(name, shift):
     (and half of it along y): every point in contact sticks (tangential gaps below tau / eps_t = 0.00165 L0), some
     slip, or all slip."""
     model = _model(("mesh.element=H1", *FRICTION[name]))
-    x0 = _pressed(model)
+    x0 = pressed_sphere_state(model)
     history = model.start_friction(x0)
     if model.contact.weakening is not None:
         history = history.__class__(history.anchors, np.full(history.slip.shape, 0.01))

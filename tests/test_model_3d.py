@@ -16,7 +16,7 @@ from capslide.model.system import CapModel, History
 from capslide.params import Parameters
 from capslide.solvers.linsolve import make_solver
 
-from fe_helpers import check_bordered_jacobian
+from fe_helpers import check_bordered_jacobian, pressed_sphere_state
 
 
 @pytest.fixture(scope="module")
@@ -26,20 +26,6 @@ def model(paper_config):
     mesh = sphere_cap_mesh(SphereCapSpec(R=47.1, H=10.0, h0=0.8, band_radius=4.0, max_size_over_H=0.4))
     solver = make_solver("amg", near_null_space=rigid_body_modes(mesh.nodes))
     return CapModel(mesh, p, solver)
-
-
-def _state(model, seed=0):
-    """The cap pressed up into the band of the adhesion law: gaps on both sides of g_eq and beyond g_max."""
-    rng = np.random.default_rng(seed)
-    X = model.mesh.nodes
-    a = model.params.adhesion
-    u = np.zeros(model.n_dofs)
-    r2 = X[:, 0] ** 2 + X[:, 1] ** 2
-    u[2::3] = 0.3 * a.r0 * np.exp(-r2 / 9.0) * X[:, 2] / 10
-    u[0::3] = 0.05 * X[:, 2] / 10
-    u += 1e-3 * a.r0 * rng.normal(size=model.n_dofs)
-    u[model.bc.dofs] = 0.0
-    return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])
 
 
 def test_half_model_boundary_conditions(model):
@@ -63,7 +49,7 @@ def test_half_model_boundary_conditions(model):
 
 @pytest.mark.parametrize("constraint", [FixedHeight(10.1), FixedForce(-0.1), FixedApexGap(0.09)], ids=["h", "Fn", "apex"])
 def test_bordered_jacobian_against_finite_differences(model, constraint):
-    x = _state(model)
+    x = pressed_sphere_state(model, shear=0.05)
     g, _ = model.contact.gaps(x[:-1], x[-1])
     a = model.params.adhesion
     assert (g < a.g_reg).any() and ((g > a.g_eq) & (g < a.g_max)).any() and (g > a.g_max).any()
@@ -73,7 +59,7 @@ def test_bordered_jacobian_against_finite_differences(model, constraint):
 def test_contact_force_is_the_traction_integral(model):
     """Fn is the whole sphere's: twice the half model's sum of the traction over the Gauss points, and twice its
     force vector's z sum; the force acts along z only."""
-    x = _state(model)
+    x = pressed_sphere_state(model, shear=0.05)
     u, h = x[:-1], x[-1]
     f, Fn, Ft = model.contact.force(u, h)
     assert Ft == 0.0
