@@ -27,6 +27,7 @@ include: "workflow/rules/stability.smk"
 include: "workflow/rules/convergence.smk"
 include: "workflow/rules/options.smk"
 include: "workflow/rules/experiment.smk"
+include: "workflow/rules/experiment3d.smk"
 include: "workflow/rules/report_config.smk"
 
 
@@ -48,6 +49,7 @@ localrules:
     convergence_table,
     options_table,
     experiment_table,
+    experiment3d_table,
     effective_config,
     stability,
     verification,
@@ -56,6 +58,7 @@ localrules:
     convergence,
     options,
     experiment,
+    experiment3d,
 
 
 rule all:

@@ -289,3 +289,24 @@ def test_a_checkpoint_within_the_onset_search_resumes_it(paper_config, tmp_path)
     saved = load_checkpoint(path, text)
     assert len(saved.records) == n and np.isfinite(saved.state.onset_ceiling)
     assert_same_history(reference, run_saving(params, path, n, resume=saved))
+
+
+def test_a_saved_state_is_tied_to_the_source_digest_not_to_the_commit(tmp_path, monkeypatch):
+    """A commit of the docs alone leaves checkpoints and normal states valid (a long study resumes across it);
+    another source digest (code that computes) does not."""
+    import capslide.io.checkpoint as ck
+    from capslide.version import source_digest
+
+    arrays = {"x": np.arange(3.0)}
+    for version, accepted in ((f"0.1.0+gdeadbeef0000.src{source_digest()}", True),
+                              (f"0.1.0+gdeadbeef0000.dirty.src{source_digest()}", True),
+                              (f"0.1.0+src{source_digest()}", True), ("0.1.0+src000000000000", False)):
+        monkeypatch.setattr(ck, "software_version", lambda: version)
+        ck.write_signed(tmp_path / "s.npz", arrays, {"kind": "test"})
+        monkeypatch.undo()
+        if accepted:
+            data, meta = ck.read_signed(tmp_path / "s.npz", "checkpoint", ck.CheckpointError)
+            assert meta["version"] == version and np.array_equal(data["x"], arrays["x"])
+        else:
+            with pytest.raises(ck.CheckpointError, match="was written by capslide 0.1.0[+]src000000000000"):
+                ck.read_signed(tmp_path / "s.npz", "checkpoint", ck.CheckpointError)

@@ -162,3 +162,27 @@ def test_the_spring_of_the_sphere_is_in_newton_per_metre():
 
     with pytest.raises(ConfigError, match="at most 100000 x material.E x geometry.L0 = 200000 N/m"):
         load_config(["sphere"], ["loading.normal_control=spring", "loading.spring_stiffness=3e5"])
+
+
+def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
+    """capslide.studies.experiment_3d on a case file (the sphere scene: E = 2 MPa, L0 = 1 um): its peak, Ft / A in
+    MPa, area loss and outcome from the file's own variables, and the CLI's table and panels."""
+    from capslide.cli import main
+    from capslide.studies.experiment_3d import features
+
+    _, _, ds = di_sphere
+    path = ds.encoding["source"]
+    c = features(path)
+    slide = ds.isel(step=np.flatnonzero(ds.phase.values == Phase.SLIDE))
+    k = int(np.argmax(np.abs(slide.Ft.values)))
+    A0 = float(ds.area[np.flatnonzero(ds.phase.values == Phase.PRELOAD)[-1]])
+    mN = 2.0e6 * 1e-12 * 1e3
+    assert c["outcome"] == "sliding" and c["Ft_end"] == pytest.approx(float(ds.onset_Ft) * mN, rel=1e-12)
+    assert c["peak_Ft"] == pytest.approx(abs(float(slide.Ft[k])) * mN, rel=1e-12)
+    assert c["A0"] == pytest.approx(A0 * 1e-6, rel=1e-12)  # um^2 -> mm^2
+    assert c["Ft_over_A_at_peak"] == pytest.approx(abs(float(slide.Ft[k])) / float(slide.area[k]) * 2.0, rel=1e-12)  # MPa
+    assert c["area_loss_pct"] == pytest.approx(100 * (1 - float(slide.area[k]) / A0), rel=1e-12)
+    assert c["travel_to_peak"] == pytest.approx(float(slide.ubar[k]), rel=1e-12)  # L0 = 1 um
+    table, panels = tmp_path / "table.md", tmp_path / "panels.png"
+    assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
+    assert "sliding" in table.read_text() and panels.stat().st_size > 0

@@ -308,9 +308,10 @@ def validate(config: Mapping) -> dict:
     out = apply_preset(config)
     check_schema(out, schema())
     _fill_defaults(out, schema())
-    from .config_rules import check_consistency, derive_from_maugis_lambda  # the rules raise ConfigError, defined here
+    from .config_rules import check_consistency, derive_from_maugis_lambda, derive_mu_DI  # rules raise ConfigError
 
     derive_from_maugis_lambda(out)
+    derive_mu_DI(out)
     check_consistency(out)
     return out
 

@@ -41,6 +41,14 @@ def derive_from_maugis_lambda(config: dict) -> None:
     adh["T_max"] = T_max
 
 
+def derive_mu_DI(config: dict) -> None:
+    """In place: friction.mu_DI = friction.tau_DI / adhesion.T_max when tau_DI (Pa) is given (after
+    :func:`derive_from_maugis_lambda`: the experiment's tau is fixed while lambda sets T_max)."""
+    tau = config["friction"]["tau_DI"]
+    if tau is not None:
+        config["friction"]["mu_DI"] = float(tau / config["adhesion"]["T_max"])
+
+
 def _check_three_d(config: Mapping) -> None:
     """The 3D sphere (mesh.element = H1) has an elastic bulk only in this version (the viscous branches are 2D)."""
     if config["mesh"]["element"] != "H1":

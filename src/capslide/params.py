@@ -195,6 +195,8 @@ class Loading:
     spring_stiffness: float | None = None  # E (2D: force per width per length) or E L0 (3D) of normal_control = spring
     velocity: float | None = None  # L0/s: the stage's speed; None: quasi-static, no time
     dwell: float = 0.0  # s: hold at the preload before the slide
+    preload_area: float | None = None  # L0^2 (3D) or L0 (2D): the preload's target contact area; None: the force
+    preload_area_rtol: float = 1e-3  # relative tolerance of preload_area
 
 
 @dataclass(frozen=True)
@@ -323,6 +325,8 @@ class Parameters:
             spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / spring_unit(config),
             velocity=None if load["velocity"] is None else load["velocity"] / units.L0,
             dwell=float(load["dwell"]), preload_via=tuple(float(v) for v in load["preload_via"]),
+            preload_area=None if load["preload_area"] is None else float(load["preload_area"]),
+            preload_area_rtol=float(load["preload_area_rtol"]),
         )
         _check_path_time(loading, load["velocity"])
         return cls(

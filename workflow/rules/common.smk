@@ -26,6 +26,7 @@ from capslide.studies.expansion import (
     runs,
     shares_normal_state,
 )
+from capslide.studies.experiment_3d import normal_states, study_cases
 from capslide.version import source_digest
 from snakemake.exceptions import WorkflowError
 
@@ -162,6 +163,22 @@ def expand_scene_study(scene_file, spec, what):
     except ConfigError as err:
         raise WorkflowError(f"{what}: {err}") from None
     return out
+
+
+def experiment3d_cases(scene_file):
+    """Run id -> config overrides of the experiment scene's study (capslide.studies.experiment_3d), each run's
+    configuration validated now."""
+    try:
+        out = study_cases(load_config([scene_file]))
+        check_runs(out, [scene_file])
+    except ConfigError as err:
+        raise WorkflowError(f"experiment3d: {err}") from None
+    return out
+
+
+def experiment3d_states(cases):
+    """State name -> config overrides of the normal states the experiment's cases start from."""
+    return normal_states(cases)
 
 
 def scene_previous_state(scene_config, preload, computed):

@@ -18,7 +18,7 @@ from ..version import __version__
 from .cases import cmd_collect, cmd_config, cmd_constants, cmd_inspect, cmd_mesh, cmd_preload, cmd_run, cmd_vtk
 from .common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, InputError, add_config_args
 from .figures import FIGURE_HELP, cmd_figure
-from .studies import cmd_convergence, cmd_experiment, cmd_options, cmd_pull_off, cmd_stability, cmd_verify
+from .studies import cmd_convergence, cmd_experiment, cmd_experiment3d, cmd_options, cmd_pull_off, cmd_stability, cmd_verify
 
 __all__ = ["main", "build_parser"]
 
@@ -133,6 +133,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--findings", metavar="FILE.md", help="what the table shows, in sentences with its numbers")
     p.add_argument("--figures", metavar="DIR", help="write panels_*, edges_* and interface_* (.pdf, .png) here")
     p.set_defaults(func=cmd_experiment)
+
+    p = sub.add_parser("experiment3d", help="evaluate the experiment in numbers (3D): table, panels, outlines")
+    p.add_argument("files", nargs="+", metavar="CASE.nc", help="the cases of the experiment scene's study")
+    p.add_argument("-o", "--output", action="append", required=True, metavar="FILE", help="table.csv / table.md")
+    p.add_argument("--panels", action="append", metavar="FILE", help="the four panels (.pdf / .png)")
+    p.add_argument("--outlines", action="append", metavar="FILE", help="outlines at the snapshot times (.pdf / .png)")
+    p.set_defaults(func=cmd_experiment3d)
 
     p = sub.add_parser("vtk", help="export the field snapshots of a case file for ParaView (.vtu series + .pvd)")
     p.add_argument("file", metavar="CASE.nc")

@@ -166,7 +166,10 @@ def cmd_run(args) -> int:
     params = parameters(args)
     (output,) = check_outputs([args.output], {"nc"})
     checked = cost.check(params, mesh_spec(params))  # the preflight, once: before anything is written
-    start = _normal_state(args.from_state, params.config) if args.from_state else None
+    start = None
+    if args.from_state:  # a preload to an area goes on from a normal state at any preload (loadpath.cap.continued_from)
+        area = params.loading.preload_area is not None
+        start = _continued_start(params, args.from_state) if area else _normal_state(args.from_state, params.config)
     result, writer = _run_checkpointed(params, output, args, start, checked=checked)
     write_netcdf(case_dataset(result, history=command_line()), output)
     if writer is not None:
@@ -286,7 +289,8 @@ def cmd_inspect(args) -> int:
 
 def cmd_vtk(args) -> int:
     """Export the field snapshots of a case file as a .vtu series with a .pvd index (ParaView)."""
-    from ..io.vtk import write_snapshot_series
+    from ..io.vtk import snapshot_steps, write_snapshot_series, write_surface_series
+    from ..states import Phase
 
     case = open_result(args.file, "case")
     if case.sizes.get("snapshot_ubar", 0) == 0:
@@ -305,4 +309,12 @@ def cmd_vtk(args) -> int:
                                 case["u_node"].values, case["v_node"].values, case["I1_sigma"].values,
                                 case["w_node"].values if three else None)
     print(f"{pvd}: {case.sizes['snapshot_ubar']} snapshots (time = ubar / L0)")
+    if three and "y_current" in case:  # the surface fields of the contact plane at the snapshots (3D)
+        steps = snapshot_steps(case["phase"].values, case["ubar"].values, case["snapshot_ubar"].values, int(Phase.SLIDE))
+        s = case.isel(step=steps[steps >= 0])
+        traction = np.stack([s[k].values for k in ("traction_t", "traction_t_y", "traction_n")], axis=-1)
+        scalars = {k: s[k].values for k in ("gap", "traction_n", "slip_state", "slip") if k in s}
+        pvd = write_surface_series(out, stem, case["snapshot_ubar"].values[steps >= 0], s["x_current"].values,
+                                   s["y_current"].values, scalars, traction)
+        print(f"{pvd}: the surface points at {len(s.step)} snapshots, on the contact plane")
     return 0

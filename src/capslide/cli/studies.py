@@ -13,7 +13,7 @@ from ..config import ConfigError
 from ..states import Status
 from .common import EXIT_STATUS, InputError, check_outputs, config_sources, csv_text, parameters, write_text_atomic
 
-__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_experiment", "cmd_pull_off",
+__all__ = ["cmd_verify", "cmd_stability", "cmd_convergence", "cmd_options", "cmd_experiment", "cmd_experiment3d", "cmd_pull_off",
            "read_spec"]
 
 
@@ -211,4 +211,36 @@ def cmd_experiment(args) -> int:
                 figures.save(figures.CASE_FIGURES["cap_Aczoom"](case),
                              [figure_dir / f"interface_{run}.{ext}" for ext in ("pdf", "png")])
     sys.stdout.write(text)
+    return 0
+
+
+def cmd_experiment3d(args) -> int:
+    """Evaluate the experiment in numbers from its case files (issue 40): the table per initial area (CSV, Markdown),
+    the four panels of the paper's experimental figure and the outlines at its snapshot times."""
+    from ..io.reading import open_result
+    from ..studies.convergence import markdown_table
+    from ..studies.experiment_3d import TABLE_COLUMNS, read_cases
+
+    outputs = check_outputs(args.output, {"csv", "md"})
+    panels = check_outputs(args.panels or [], {"pdf", "png"})
+    outlines = check_outputs(args.outlines or [], {"pdf", "png"})
+    cases = read_cases(args.files)
+    rows = [{k: c[k] for k in TABLE_COLUMNS} for c in cases]
+    for out in outputs:
+        write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
+    if panels or outlines:
+        from .. import figures
+        from ..figures.experiment_3d import fig_experiment3d_outlines, fig_experiment3d_panels
+
+        with figures.journal_style():
+            if panels:
+                figures.save(fig_experiment3d_panels(cases), panels)
+            if outlines:  # the experiment's snapshots are of A0 = 0.27 mm^2 (its figure 4)
+                shown = min((c for c in cases if "_lambda" not in c["case"]), key=lambda c: abs(c["A0"] - 0.27))
+                with open_result(Path(shown["path"]), "case") as case:
+                    figures.save(fig_experiment3d_outlines(case), outlines)
+    for r in rows:
+        print(f"{r['case']:16s} {r['status']:9s} A0 {r['A0']:.4f} mm2, Fn0 {r['Fn0']:+.3f} mN, peak Ft {r['peak_Ft']:.4g} mN "
+              f"at {r['travel_to_peak']:.4g} um, Ft/A {r['Ft_over_A_at_peak']:.4g} MPa, area loss {r['area_loss_pct']:.3g} %, "
+              f"{r['outcome']}")
     return 0

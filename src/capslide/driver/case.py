@@ -78,8 +78,9 @@ def run_case(params: Parameters, mesh: Mesh | None = None, observers: Sequence[O
     snapshots = list(resume.snapshots) if resume is not None else []
     clock = Clock(resume.elapsed if resume is not None else 0.0)
     snapshot_taker = Snapshots(model, wanted, snapshots)
+    held = params.loading.preload if params.loading.preload_area is None else None  # None: the force reached
     watching: list[Observer] = [Recorder(records), snapshot_taker, *observers,
-                                PeelOff(records, params.loading.preload), Snap(records, params.friction.weakening),
+                                PeelOff(records, held), Snap(records, params.friction.weakening),
                                 StepBudget(records, params.limits.max_steps)]
     if params.loading.stop_at_onset:
         watching.append(OnsetStop())

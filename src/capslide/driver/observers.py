@@ -7,6 +7,7 @@ how the case ended once the load path has stopped.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -16,7 +17,7 @@ from ..loadpath.continuation import Notice
 from ..loadpath.legs import LegName
 from ..loadpath.measures import Snapshot, StepRecord, field_snapshot, fully_sliding, peeling_off
 from ..model.system import CapModel
-from ..states import Status
+from ..states import Phase, Status
 
 __all__ = ["Stop", "Observer", "Recorder", "Snapshots", "OnsetStop", "PeelOff", "Snap", "StepBudget", "Checkpointing",
            "Clock", "AfterSteps"]
@@ -99,14 +100,21 @@ class PeelOff(Observer):
     """A slide that found no equilibrium under a tensile load while the contact peeled ends detached, not diverged
     (shear-induced pull-off, :func:`capslide.loadpath.measures.peeling_off`)."""
 
-    def __init__(self, records: list[StepRecord], Fn: float):
-        self.records, self.Fn = records, Fn
+    def __init__(self, records: list[StepRecord], Fn: float | None):
+        self.records, self.Fn = records, Fn  # Fn None: the force the preload reached (a preload to an area)
+
+    def _held(self) -> float:
+        if self.Fn is not None:
+            return self.Fn
+        preloaded = [r.Fn for r in self.records if r.phase == Phase.PRELOAD]
+        return preloaded[-1] if preloaded else math.nan
 
     def end(self, end):
-        if end.status != Status.DIVERGED or end.leg != LegName.SLIDE or not peeling_off(self.records, self.Fn):
+        Fn = self._held()
+        if end.status != Status.DIVERGED or end.leg != LegName.SLIDE or not peeling_off(self.records, Fn):
             return end
         last = self.records[-1]
-        reason = (f"slide: no equilibrium at Fn = {self.Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling "
+        reason = (f"slide: no equilibrium at Fn = {Fn:.6g} beyond ubar = {last.ubar:.6g}; the contact was peeling "
                   f"off (area {last.area:.4g}, shrinking, h rising)")
         return PathEnd(Status.DETACHED, reason, end.x, end.cutbacks, end.min_step, end.leg)
 

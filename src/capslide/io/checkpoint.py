@@ -73,8 +73,9 @@ def checkpoint_path(output: str | Path) -> Path:
 
 
 def config_text(config) -> str:
-    """The configuration as the canonical YAML text a checkpoint is tied to."""
-    return yaml.safe_dump(dict(config), sort_keys=True)
+    """The configuration as the canonical YAML text a checkpoint is tied to, without the ``study`` section (read by
+    the workflow only: it changes nothing a case computes)."""
+    return yaml.safe_dump({k: v for k, v in dict(config).items() if k != "study"}, sort_keys=True)
 
 
 def array_sha(*arrays: np.ndarray) -> str:
@@ -109,9 +110,15 @@ def write_signed(path: Path, arrays: dict[str, np.ndarray], header: dict) -> Non
                         "header_sha256": np.array(hashlib.sha256(text.encode()).hexdigest())})
 
 
+def _source_part(version) -> str | None:
+    """The ``src<digest>`` of a version string (capslide.version.software_version): the code that computes. A
+    checkpoint is tied to it, not to the commit, so that a change of the docs alone leaves it valid."""
+    return str(version).rsplit(".", 1)[-1].rsplit("+", 1)[-1] if version else None
+
+
 def read_signed(path: Path, what: str, error: type[Exception]) -> tuple[dict[str, np.ndarray], dict]:
     """The arrays and header of :func:`write_signed`'s file; ``error`` naming ``what`` and ``path`` when a checksum
-    does not match or another capslide version wrote it."""
+    does not match or another version of the code (its source digest) wrote it."""
     data = read_arrays(path)
     text = str(data.pop("header"))
     if hashlib.sha256(text.encode()).hexdigest() != str(data.pop("header_sha256")):
@@ -119,7 +126,7 @@ def read_signed(path: Path, what: str, error: type[Exception]) -> tuple[dict[str
     meta = json.loads(text)
     if not isinstance(meta, dict):
         raise error(f"{what} '{path}': field 'header' is a {type(meta).__name__}, not a mapping")
-    if meta.get("version") != software_version():
+    if _source_part(meta.get("version")) != _source_part(software_version()):
         raise error(f"{what} '{path}' was written by capslide {meta.get('version')}, this is {software_version()}")
     if array_sha(*(data[k] for k in sorted(data))) != meta.get("arrays_sha256"):
         raise error(f"{what} '{path}' does not match its checksum")
@@ -182,7 +189,7 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.marks], "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
-              "onset_ceiling": s.onset_ceiling}
+              "onset_ceiling": s.onset_ceiling, "preload_Fn": s.preload_Fn}
     return arrays, header
 
 
@@ -198,7 +205,7 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
                       meta.get("time", 0.0))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
-                     meta.get("stage_h"), meta.get("onset_ceiling", float("nan")))
+                     meta.get("stage_h"), meta.get("onset_ceiling", float("nan")), meta.get("preload_Fn"))
 
 
 def _flock(fh, exclusive: bool) -> None:

@@ -36,6 +36,10 @@ SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "load
               "loading.dwell", "output.snapshot_ubar", "study.")
 
 
+# the preload's target: the state at one target is the start of the path to another (loadpath.cap.continued_from)
+PRELOAD_KEYS = ("loading.preload", "loading.preload_area", "loading.preload_area_rtol")
+
+
 class NormalStateError(ValueError):
     """A normal state file that this case cannot start from (the message says why, in one line)."""
 
@@ -94,8 +98,11 @@ def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, fl
     check_header(meta, "normal state")
     theirs, own = json.loads(meta["normal_config"]), normal_config(config)
     preload = float(theirs["loading.preload"])
-    if any_preload:
-        own["loading.preload"] = preload
+    if any_preload:  # the preload's target: a force, or a contact area
+        for key in PRELOAD_KEYS:
+            own.pop(key, None)
+            if key in theirs:
+                own[key] = theirs[key]
     if _text(theirs) != _text(own):
         raise NormalStateError(f"normal state '{path}' was computed for another configuration "
                                f"({_first_difference(theirs, own)})")

@@ -100,6 +100,7 @@ def check_header(meta: Any, kind: str) -> None:
     _number(meta, "stage_h", "", finite=True, optional=True)
     _number(meta, "time", "", finite=True, minimum=0.0)
     _number(meta, "onset_ceiling", "")
+    _number(meta, "preload_Fn", "", finite=True, optional=True)
     _number(meta, "elapsed", "", finite=True, minimum=0.0)
     if kind == "normal state":
         if meta.get("status") not in {int(s) for s in Status} or isinstance(meta.get("status"), bool):

@@ -42,7 +42,7 @@ from ..states import Phase, Status
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .legs import LEGS, LegName, plan
 from .measures import StepRecord, fully_sliding
-from .preload_targets import preload_targets
+from .preload_targets import AreaUnreachable, area_targets, area_unreachable, preload_targets
 from .slide_rules import Mark, either, jump_check, onset_bracket, onset_check, onset_step_limit, snap_check, steady_sliding
 
 __all__ = ["LEGS", "LegName", "plan", "Mark", "PathState", "PathStep", "PathEnd", "initial_state", "load_path",
@@ -64,6 +64,7 @@ class PathState:
     smallest: float = math.inf  # smallest step over the finished legs
     stage_h: float | None = None  # substrate height at the start of the slide (L0): the stage of normal control
     onset_ceiling: float = math.nan  # ubar of the last slide step cut back for closing the stick zone (onset_check)
+    preload_Fn: float | None = None  # the force the slide holds, when a preload to an area set it (else loading.preload)
 
     def totals(self) -> tuple[int, float]:
         """Cut-backs and smallest step so far, the running leg included."""
@@ -151,8 +152,7 @@ def _slide_control(model: CapModel) -> StepControl:
     return StepControl(L.slide_step, L.min_slide_step, L.max_slide_step, max_cutbacks=L.max_cutbacks)
 
 
-def _min_area(model: CapModel) -> float:
-    """A contact shorter than two surface elements has come off."""
+def _min_area(model: CapModel) -> float:  # a contact shorter than two surface elements has come off
     return 2.0 * H0_AT_SIZE_1 * model.params.mesh.size
 
 
@@ -183,6 +183,11 @@ def _finish_leg(model: CapModel, state: PathState, after: str) -> None:
     state.cutbacks, state.smallest, state.loop = cut, smallest, None
     if state.leg == LegName.PRELOAD:
         state.targets = state.targets[1:]
+        if not state.targets and model.params.loading.preload_area is not None:
+            try:
+                state.targets = area_targets(model.params.loading, state.marks)
+            except AreaUnreachable:
+                return  # the preload leg stays, without a target: it ends the path with the reason
         if state.targets:
             return
     if after == LegName.PRELOAD:
@@ -213,10 +218,12 @@ def _preload_targets(model: CapModel, state: PathState) -> list[float]:
 def continued_from(loading, preloaded: PathState, reached: float, Fn_approached: float) -> PathState | None:
     """The path to ``loading.preload`` continued from ``preloaded``, a path of the same configuration preloaded to
     ``reached`` whose approach ended at ``Fn_approached``, when the path passes through it (its targets begin with
-    those of ``reached``: a preload beyond it on the loading, or a tensile one reached by retraction); None
-    otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
+    those of ``reached``: a preload beyond it on the loading, or a tensile one reached by retraction; a preload to an
+    area from any), None otherwise. The continued path is the uninterrupted one: same targets, marks and totals."""
     ours = preload_targets(loading, Fn_approached)
     theirs = preload_targets(replace(loading, preload=reached), Fn_approached)
+    if loading.preload_area is not None:  # its force is a guess: the path goes on from any preloaded state
+        ours, theirs = [reached, loading.preload], [reached]
     if (len(ours) <= len(theirs) or ours[:len(theirs)] != theirs or preloaded.loop is not None or preloaded.targets
             or preloaded.leg not in (LegName.DWELL, LegName.SLIDE, LegName.DONE)):
         return None
@@ -252,14 +259,20 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
 
 def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     control = _force_control(model)
+    if not state.targets:  # a preload to an area that no force step reaches (_finish_leg)
+        return LegEnd(Status.DIVERGED, area_unreachable(model.params.loading, state.marks))
     target = state.targets[0]
     if state.loop is None:
         state.loop = Loop.start(state.x, _current_Fn(model, state), target, control)
     retracting = target > state.loop.value  # only a retraction can pull the contact off
-    min_area = _min_area(model)
-    detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
+    min_area, area = _min_area(model), model.params.loading.preload_area
+
+    def ends(rec: StepRecord) -> Status | None:  # a preload to an area stops where it passes the area (a bracket)
+        passed = area is not None and (rec.area <= area if retracting else rec.area >= area)
+        return Status.DETACHED if retracting and rec.area < min_area else Status.COMPLETED if passed else None
+
     steps = continuation(model, state.loop, state.history,
-                         Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=detached if retracting else None,
+                         Leg(FixedForce, target, control, Phase.PRELOAD, "preload", ends=ends,
                              seconds_per_unit=seconds_per_unit(model), secant=False))
     end = yield from _run(model, state, steps, _after_preload(model))
     Fn = _current_Fn(model, state)
@@ -268,14 +281,21 @@ def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[Path
     return end
 
 
-def slide_constraint(loading, stage_h: float):
-    """The constraint at ubar of the normal control ``loading.normal_control``, with the stage set where the
-    substrate stood at the start of the slide (``stage_h``, L0) holding the preload."""
+def slide_constraint(loading, stage_h: float, Fn: float | None = None):
+    """The constraint at ubar of ``loading.normal_control``, with the stage set where the substrate stood at the start
+    of the slide (``stage_h``, L0) holding the preload ``Fn`` (default ``loading.preload``)."""
+    Fn = loading.preload if Fn is None else Fn
     if loading.normal_control == "height":
         return lambda ubar: FixedHeight(stage_h, ubar)
     if loading.normal_control == "spring":
-        return lambda ubar: SlideOnSpring(ubar, loading.preload, stage_h, loading.spring_stiffness)
-    return lambda ubar: SlideAtForce(ubar, loading.preload)
+        return lambda ubar: SlideOnSpring(ubar, Fn, stage_h, loading.spring_stiffness)
+    return lambda ubar: SlideAtForce(ubar, Fn)
+
+
+def _set_stage(model: CapModel, state: PathState) -> None:  # and the force reached by a preload to an area
+    state.stage_h = float(state.x[-1])
+    if model.params.loading.preload_area is not None:
+        state.preload_Fn = _current_Fn(model, state)
 
 
 def _slide_leg(model: CapModel, state: PathState, start: float, end: float, breakpoints, name: str,
@@ -299,8 +319,9 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         gap_before = lambda: model.contact.gaps(*model.split(x_before))[0].ravel()  # noqa: E731
         return steady_sliding(state.marks, rec, gap_before, model.params.adhesion.r0)
 
+    constraint = slide_constraint(model.params.loading, state.stage_h, state.preload_Fn)
     steps = continuation(model, state.loop, state.history,
-                         Leg(slide_constraint(model.params.loading, state.stage_h), end, control, Phase.SLIDE, name,
+                         Leg(constraint, end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=step_limit, rejects=rejects,
                              seconds_per_unit=seconds_per_unit(model), stick_first=True, steady=steady))
     return (yield from _run(model, state, steps, after))
@@ -312,7 +333,7 @@ def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
         if model.params.friction.active_from == "slide":
             state.history = model.start_friction(state.x, 0.0, state.history)
         if state.stage_h is None:
-            state.stage_h = float(state.x[-1])
+            _set_stage(model, state)
     after = LegName.SLIDE_BACK if L.slide_back else LegName.DONE
     return (yield from _slide_leg(model, state, 0.0, L.ubar_max, tuple(snapshot_ubar), LegName.SLIDE, after))
 
@@ -327,9 +348,9 @@ def _dwell(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
     L = model.params.loading
     control = StepControl(L.dwell / 64.0, L.dwell * 1e-6, L.dwell / 4.0, max_cutbacks=L.max_cutbacks)
     if state.loop is None:
-        state.stage_h = float(state.x[-1])
+        _set_stage(model, state)
         state.loop = Loop.start(state.x, 0.0, L.dwell, control)
-    at_rest = slide_constraint(L, state.stage_h)
+    at_rest = slide_constraint(L, state.stage_h, state.preload_Fn)
     steps = continuation(model, state.loop, state.history,
                          Leg(lambda t: at_rest(0.0), L.dwell, control, Phase.DWELL, "dwell", seconds_per_unit=1.0))
     return (yield from _run(model, state, steps, _after_dwell(model)))
@@ -350,8 +371,7 @@ def after_normal_state(model: CapModel, state: PathState) -> PathState:
     return state
 
 
-def _counted(steps: Generator, seen: list[int]) -> Generator:
-    """``steps`` relayed, with the converged ones counted in ``seen[0]``."""
+def _counted(steps: Generator, seen: list[int]) -> Generator:  # steps relayed, the converged ones counted in seen[0]
     run = Returning(steps)
     for step in run:
         if isinstance(step, PathStep):
@@ -362,10 +382,9 @@ def _counted(steps: Generator, seen: list[int]) -> Generator:
 
 def load_path(model: CapModel, snapshot_ubar=(), start: PathState | None = None,
               stop_before: str = LegName.DONE) -> Generator[PathStep, None, PathEnd]:
-    """Converged steps of the cap's load path from ``start`` (default: :func:`initial_state`) until the leg
-    ``stop_before`` would start; slide steps end exactly on every ``snapshot_ubar`` value. The return value says
-    how the path ended. A leg that ends without a step and leaves the path where it was ends it diverged (no
-    loop repeats without progress)."""
+    """Converged steps of the load path from ``start`` (default: :func:`initial_state`) until the leg ``stop_before``
+    would start, slide steps ending on every ``snapshot_ubar``; returns how it ended (diverged when a leg ends
+    without a step and leaves the path where it was: no loop repeats without progress)."""
     state = start if start is not None else initial_state(model)
     while LEGS.index(state.leg) < LEGS.index(stop_before):
         if state.loop is None:  # every leg starts with a fresh factorization: a leg repeats the same arithmetic

@@ -32,7 +32,6 @@ from ..config import (
     schema,
     validate,
 )
-from ..io.checkpoint import config_text
 from ..io.normal_state import normal_config
 from ..model import cost
 from ..params import Parameters
@@ -167,5 +166,5 @@ def results_name(config: Mapping[str, Any]) -> str:
         packaged = None
     if dict(config) == packaged:
         return str(preset)
-    digest = hashlib.sha256(config_text(config).encode()).hexdigest()[:8]  # the text a checkpoint is tied to
+    digest = hashlib.sha256(yaml.safe_dump(dict(config), sort_keys=True).encode()).hexdigest()[:8]  # study included
     return f"{preset}-{digest}"
