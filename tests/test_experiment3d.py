@@ -2,13 +2,17 @@
 JKR numbers of ../shared/reference/sphere-facts.md, DI's tau held while lambda changes, and the path state that
 carries the force a preload to an area reached through a checkpoint."""
 
+import json
+
 import numpy as np
 import pytest
 
 from capslide.config import apply_settings, load_config, scene_path
 from capslide.io.checkpoint import path_state, state_arrays
-from capslide.loadpath.cap import PathState
+from capslide.io.state_check import check_header
+from capslide.loadpath.cap import Mark, PathState
 from capslide.model.system import History
+from capslide.states import Phase
 from capslide.studies.experiment_3d import normal_states, preload_guess, study_cases
 
 
@@ -52,3 +56,12 @@ def test_a_checkpoint_keeps_the_force_the_preload_to_an_area_reached():
     assert path_state(arrays, header).preload_Fn == -1234.5
     arrays, header = state_arrays(PathState("slide", np.zeros(5), History()))
     assert path_state(arrays, header).preload_Fn is None
+
+
+def test_a_checkpoint_keeps_the_bracket_of_a_preload_to_an_area():
+    bracket = [Mark(Phase.PRELOAD, 0.0, 688.4, 0.0, 0.0, 111834.4), Mark(Phase.PRELOAD, 0.0, 720.4, 0.0, 0.0, 89974.6)]
+    arrays, header = state_arrays(PathState("preload", np.zeros(5), History(), area_bracket=bracket))
+    json.loads(json.dumps(header))  # the header is JSON
+    check_header({**header, "elapsed": 0.0, "chunks": []}, "checkpoint")
+    assert path_state(arrays, header).area_bracket == bracket
+    assert path_state(arrays, {k: v for k, v in header.items() if k != "area_bracket"}).area_bracket == []

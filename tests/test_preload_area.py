@@ -9,7 +9,14 @@ import pytest
 
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
-from capslide.loadpath.preload_targets import AreaUnreachable, area_correction, area_targets, area_unreachable
+from capslide.loadpath.preload_targets import (
+    AreaUnreachable,
+    area_bracket,
+    area_correction,
+    area_targets,
+    area_unreachable,
+    bracketed_force,
+)
 from capslide.params import Parameters
 from capslide.states import Phase, Status
 
@@ -34,11 +41,53 @@ def test_an_area_that_does_not_grow_under_compression_is_unreachable(Fn, area):
 
 def test_the_reason_names_the_key_and_its_value():
     loading = SimpleNamespace(preload_area=20.0, preload_area_rtol=1e-3, min_force_step=1e-6)
-    marks = [SimpleNamespace(Fn=0.0, area=12.0), SimpleNamespace(Fn=-0.5, area=10.0)]
+    marks = [SimpleNamespace(phase=Phase.PRELOAD, Fn=0.0, area=12.0), SimpleNamespace(phase=Phase.PRELOAD, Fn=-0.5, area=10.0)]
     with pytest.raises(AreaUnreachable):
-        area_targets(loading, marks)
-    message = area_unreachable(loading, marks)
+        area_targets(loading, marks, [])
+    message = area_unreachable(loading, marks, [])
     assert message.startswith("preload to loading.preload_area = 20:") and "\n" not in message
+
+
+def _mark(Fn, area):
+    return SimpleNamespace(phase=Phase.PRELOAD, Fn=Fn, area=area)
+
+
+def test_the_bracket_keeps_the_latest_state_on_either_side_of_the_target():
+    b = area_bracket([], [_mark(-1.0, 9.0), _mark(-2.0, 11.0)], 10.0)
+    assert sorted(m.Fn for m in b) == [-2.0, -1.0]
+    b = area_bracket(b, [_mark(-2.0, 11.0), _mark(-1.5, 10.5)], 10.0)  # -1.5 replaces -2 above the target
+    assert sorted(m.Fn for m in b) == [-1.5, -1.0]
+    assert area_bracket([], [SimpleNamespace(phase=Phase.APPROACH, Fn=0.0, area=3.0), _mark(-1.0, 9.0)], 10.0) == [
+        _mark(-1.0, 9.0)]
+
+
+def _jumping_area(F):  # a contact edge that snaps by a face at F = -1.3: 8 -> 12, over the target 10
+    return 8.0 - F if F > -1.3 else 12.0 - F
+
+
+def test_a_preload_to_an_area_that_jumps_over_the_target_ends_once_the_force_is_resolved():
+    """Without the bracket the secant through the last two states bounces over the jump (the case that did not end
+    in the experiment's sweep at A0 = 0.10 mm^2); with it the force closes in on the jump and stops within rtol."""
+    loading = SimpleNamespace(preload_area=10.0, preload_area_rtol=1e-3, min_force_step=1e-6)
+    marks, bracket = [_mark(0.0, _jumping_area(0.0)), _mark(-1.0, _jumping_area(-1.0))], []
+    for _ in range(60):
+        targets, bracket = area_targets(loading, marks, bracket)
+        if not targets:
+            break
+        marks = [marks[-1], _mark(targets[0], _jumping_area(targets[0]))]
+    assert not targets
+    lo, hi = sorted(m.Fn for m in bracket)
+    assert lo <= -1.3 < hi and hi - lo <= 1e-3 * 1.31
+
+
+def test_inside_the_bracket_the_secant_is_kept_and_a_step_outside_it_is_halved():
+    bracket = [_mark(-1.0, 9.0), _mark(-2.0, 11.0)]
+    assert bracketed_force(bracket, (bracket[0], bracket[1]), 10.0, 1e-3, 1e-6) == pytest.approx(-1.5)
+    far = (_mark(-1.9, 10.9), _mark(-2.0, 11.0))  # the branch's secant reaches past the bracket
+    assert bracketed_force(bracket, far, 10.0, 1e-3, 1e-6) == pytest.approx(-1.5)
+    near = (_mark(-1.0, 9.0), _mark(-1.2, 9.8))
+    assert bracketed_force(bracket, near, 10.0, 1e-3, 1e-6) == pytest.approx(-1.25)
+    assert bracketed_force([_mark(-1.0, 9.0), _mark(-1.0005, 11.0)], near, 10.0, 1e-3, 1e-6) is None
 
 
 COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=0", "output.snapshot_ubar=[]"]

@@ -189,7 +189,8 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.marks], "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
-              "onset_ceiling": s.onset_ceiling, "preload_Fn": s.preload_Fn}
+              "onset_ceiling": s.onset_ceiling, "preload_Fn": s.preload_Fn,
+              "area_bracket": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.area_bracket]}
     return arrays, header
 
 
@@ -205,7 +206,8 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
                       meta.get("time", 0.0))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
-                     meta.get("stage_h"), meta.get("onset_ceiling", float("nan")), meta.get("preload_Fn"))
+                     meta.get("stage_h"), meta.get("onset_ceiling", float("nan")), meta.get("preload_Fn"),
+                     [Mark(Phase(int(m[0])), *m[1:]) for m in meta.get("area_bracket", [])])
 
 
 def _flock(fh, exclusive: bool) -> None:

@@ -77,13 +77,13 @@ def _loop(lm: Any) -> None:
     _finite_list(lm.get("pending"), "loop.pending")
 
 
-def _marks(marks: Any) -> None:
+def _marks(marks: Any, name: str = "marks") -> None:
     if not isinstance(marks, list):
-        raise BadField("marks", f"= {marks!r} is not a list")
+        raise BadField(name, f"= {marks!r} is not a list")
     for m in marks:
         if (not isinstance(m, list) or len(m) != 6 or not all(_is_number(v) for v in m)
                 or m[0] not in {int(p) for p in Phase}):
-            raise BadField("marks", f"entry {m!r} is not [phase, ubar, Fn, area_stick, Ft, area]")
+            raise BadField(name, f"entry {m!r} is not [phase, ubar, Fn, area_stick, Ft, area]")
 
 
 def check_header(meta: Any, kind: str) -> None:
@@ -95,6 +95,7 @@ def check_header(meta: Any, kind: str) -> None:
     _loop(meta.get("loop"))
     _finite_list(meta.get("targets"), "targets")
     _marks(meta.get("marks"))
+    _marks(meta.get("area_bracket", []), "area_bracket")
     _number(meta, "cutbacks", "", integer=True, minimum=0)
     _number(meta, "smallest", "", minimum=0.0)
     _number(meta, "stage_h", "", finite=True, optional=True)

@@ -65,6 +65,7 @@ class PathState:
     stage_h: float | None = None  # substrate height at the start of the slide (L0): the stage of normal control
     onset_ceiling: float = math.nan  # ubar of the last slide step cut back for closing the stick zone (onset_check)
     preload_Fn: float | None = None  # the force the slide holds, when a preload to an area set it (else loading.preload)
+    area_bracket: list[Mark] = field(default_factory=list)  # a preload to an area: the states either side of it
 
     def totals(self) -> tuple[int, float]:
         """Cut-backs and smallest step so far, the running leg included."""
@@ -185,7 +186,7 @@ def _finish_leg(model: CapModel, state: PathState, after: str) -> None:
         state.targets = state.targets[1:]
         if not state.targets and model.params.loading.preload_area is not None:
             try:
-                state.targets = area_targets(model.params.loading, state.marks)
+                state.targets, state.area_bracket = area_targets(model.params.loading, state.marks, state.area_bracket)
             except AreaUnreachable:
                 return  # the preload leg stays, without a target: it ends the path with the reason
         if state.targets:
@@ -260,7 +261,7 @@ def _spread(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathS
 def _preload(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
     control = _force_control(model)
     if not state.targets:  # a preload to an area that no force step reaches (_finish_leg)
-        return LegEnd(Status.DIVERGED, area_unreachable(model.params.loading, state.marks))
+        return LegEnd(Status.DIVERGED, area_unreachable(model.params.loading, state.marks, state.area_bracket))
     target = state.targets[0]
     if state.loop is None:
         state.loop = Loop.start(state.x, _current_Fn(model, state), target, control)
@@ -339,8 +340,7 @@ def _slide(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathSt
 
 
 def _slide_back(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:
-    L = model.params.loading
-    return (yield from _slide_leg(model, state, L.ubar_max, 0.0, (), LegName.SLIDE_BACK, LegName.DONE))
+    return (yield from _slide_leg(model, state, model.params.loading.ubar_max, 0.0, (), LegName.SLIDE_BACK, LegName.DONE))
 
 
 def _dwell(model: CapModel, state: PathState, snapshot_ubar) -> Generator[PathStep, None, LegEnd]:

@@ -5,7 +5,8 @@ Compressive and zero preloads are reached by loading from the approach's end; te
 ``retract_from``, as in the experiment. On the way the path lands on the forces of ``preload_via`` it passes, each
 reached the way the path to it alone would reach it, so the path to one preload passes through the states at the
 others and a study's normal states can be computed one after the other (:func:`previous_target`). A preload to a
-target contact area (``loading.preload_area``) corrects the force after it by secant steps (:func:`area_correction`).
+target contact area (``loading.preload_area``) corrects the force after it by secant steps (:func:`area_correction`),
+inside the bracket of states on either side of the area once there is one (:func:`bracketed_force`).
 """
 
 from __future__ import annotations
@@ -13,8 +14,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-__all__ = ["preload_targets", "previous_target", "area_correction", "area_targets", "area_unreachable",
-           "AreaUnreachable"]
+from ..states import Phase
+
+__all__ = ["preload_targets", "previous_target", "area_correction", "area_bracket", "bracketed_force", "area_targets",
+           "area_unreachable", "AreaUnreachable"]
 
 
 def _retracted_to(loading, Fn: float, Fn_approached: float) -> bool:
@@ -74,22 +77,54 @@ def area_correction(Fn: tuple[float, float], area: tuple[float, float], target: 
     return None if abs(step) < min_step else F1 + step
 
 
-def area_targets(loading, marks) -> list[float]:
+def area_bracket(bracket: list, marks, target: float) -> list:
+    """The converged preload states nearest the target area on either side (anything with ``Fn`` and ``area``; at
+    most one with ``area >= target`` and one below): ``bracket`` updated with the last two of ``marks`` in order,
+    each replacing the state on its side."""
+    out = list(bracket)
+    for m in [m for m in marks[-2:] if m.phase == Phase.PRELOAD]:
+        out = [b for b in out if (b.area >= target) != (m.area >= target)] + [m]
+    return out
+
+
+def bracketed_force(bracket: list, last_two: tuple, target: float, rtol: float, min_step: float) -> float | None:
+    """The next force target inside a ``bracket`` of two states on either side of the contact area ``target``: the
+    secant's force through the ``last_two`` states when it falls well inside (1 % of the width from either end), the
+    bracket's middle otherwise (an area that jumps, or does not grow under compression, between them); None when the
+    bracket is resolved (width at most ``rtol`` times its force, or below ``min_step``): the area jumps over the
+    target there, as a contact edge snapping in or out by a face does."""
+    a, b = bracket
+    width, (lo, hi) = abs(a.Fn - b.Fn), sorted((a.Fn, b.Fn))
+    if width <= max(min_step, rtol * max(abs(a.Fn), abs(b.Fn))):
+        return None
+    m0, m1 = last_two
+    slope = (m1.area - m0.area) / (m1.Fn - m0.Fn) if m1.Fn != m0.Fn else 0.0
+    F = m1.Fn + (target - m1.area) / slope if slope < 0.0 else math.nan
+    return F if lo + 0.01 * width <= F <= hi - 0.01 * width else 0.5 * (lo + hi)
+
+
+def area_targets(loading, marks, bracket: list) -> tuple[list[float], list]:
     """The next force target of a preload to ``loading.preload_area`` from the last two converged states of
-    ``marks`` (anything with ``Fn`` and ``area``): [] when the area is reached; AreaUnreachable when no force step
-    reaches it from there."""
+    ``marks`` (anything with ``phase``, ``Fn`` and ``area``) and the bracket so far (:func:`area_bracket`), and the
+    bracket updated: [] when the area is reached, or when the states on either side of it are as close in force as
+    the area's tolerance asks (the last state stays); by a secant through the last two states, kept inside the bracket
+    once there is one; AreaUnreachable when no force step reaches the area from there."""
     if len(marks) < 2:
         raise AreaUnreachable("a secant needs two converged states, the path has one")
-    m0, m1 = marks[-2:]
-    L = loading
-    target = area_correction((m0.Fn, m1.Fn), (m0.area, m1.area), L.preload_area, L.preload_area_rtol, L.min_force_step)
-    return [] if target is None else [target]
+    L, (m0, m1) = loading, marks[-2:]
+    bracket = area_bracket(bracket, marks, L.preload_area)
+    if len(bracket) == 2 and abs(m1.area - L.preload_area) > L.preload_area_rtol * L.preload_area:
+        target = bracketed_force(bracket, (m0, m1), L.preload_area, L.preload_area_rtol, L.min_force_step)
+    else:
+        target = area_correction((m0.Fn, m1.Fn), (m0.area, m1.area), L.preload_area, L.preload_area_rtol,
+                                 L.min_force_step)
+    return ([] if target is None else [target]), bracket
 
 
-def area_unreachable(loading, marks) -> str:
+def area_unreachable(loading, marks, bracket: list) -> str:
     """Why :func:`area_targets` finds no force target from ``marks`` (one line, naming the key and its value)."""
     try:
-        area_targets(loading, marks)
+        area_targets(loading, marks, bracket)
     except AreaUnreachable as err:
         return f"preload to loading.preload_area = {loading.preload_area:.6g}: {err}"
     return f"preload to loading.preload_area = {loading.preload_area:.6g}: no force target"
