@@ -63,7 +63,8 @@ def test_without_a_terminal_one_line_per_step_and_the_cut_backs(tmp_path):
     assert "\r" not in res.stderr and len(steps) > 20
     assert re.match(r"capslide: building the mesh: [0-9,]+ Q1 cells, [0-9,]+ DOF$", notices[0]), notices[0]
     assert any(": cut-back 1 at " in n for n in notices), notices  # the onset check cuts back the step that
-    # would close the stick zone (slide_rules.onset_check), at ubar = 2
+    # would close the stick zone (slide_rules.onset_check), at ubar = 2, and the notice says so
+    assert any(re.search(r": cut-back 1 at .*\(the stick zone closed within a step of [0-9.e-]+\)$", n) for n in notices), notices
 
 
 def test_the_plan_is_the_paths_own_legs():

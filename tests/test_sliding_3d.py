@@ -2,6 +2,8 @@
 slips at the threshold (Ft = the integral of J_s t_slide over the surface, and close to tau x A), with force and
 energy balance in the file; a frictionless sphere's slide changes nothing. Finer meshes: docs/sphere.md."""
 
+import math
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -180,9 +182,28 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert c["outcome"] == "sliding" and c["Ft_end"] == pytest.approx(float(ds.onset_Ft) * mN, rel=1e-12)
     assert c["peak_Ft"] == pytest.approx(abs(float(slide.Ft[k])) * mN, rel=1e-12)
     assert c["A0"] == pytest.approx(A0 * 1e-6, rel=1e-12)  # um^2 -> mm^2
+    assert math.isnan(c["A0_target"])  # preloaded to a force
     assert c["Ft_over_A_at_peak"] == pytest.approx(abs(float(slide.Ft[k])) / float(slide.area[k]) * 2.0, rel=1e-12)  # MPa
     assert c["area_loss_pct"] == pytest.approx(100 * (1 - float(slide.area[k]) / A0), rel=1e-12)
     assert c["travel_to_peak"] == pytest.approx(float(slide.ubar[k]), rel=1e-12)  # L0 = 1 um
     table, panels = tmp_path / "table.md", tmp_path / "panels.png"
     assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
     assert "sliding" in table.read_text() and panels.stat().st_size > 0
+
+
+@pytest.mark.parametrize(("status", "outcome"), [("diverged", "stopped"), ("detached", "vanished")])
+def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, status, outcome):
+    """A slide that found no equilibrium on (exit 4: kept by the experiment3d workflow) or lost its contact ends the
+    table's row with its last Ft, not a sliding onset."""
+    from capslide.studies.experiment_3d import features
+
+    _, _, ds = di_sphere
+    short = ds.load().copy()
+    short.attrs["status"] = status
+    short["onset_ubar"] = np.nan
+    path = tmp_path / "short.nc"
+    short.to_netcdf(path)
+    c = features(path)
+    slide = ds.isel(step=np.flatnonzero(ds.phase.values == Phase.SLIDE))
+    assert c["outcome"] == outcome
+    assert c["Ft_end"] == pytest.approx(float(slide.Ft[-1]) * 2.0e6 * 1e-12 * 1e3, rel=1e-12)

@@ -176,11 +176,6 @@ def experiment3d_cases(scene_file):
     return out
 
 
-def experiment3d_states(cases):
-    """State name -> config overrides of the normal states the experiment's cases start from."""
-    return normal_states(cases)
-
-
 def scene_previous_state(scene_config, preload, computed):
     """:func:`previous_state` for a scene's own loading (its retract_from and preload_via), None also when the
     two states' meshes differ (the 3D sphere's band radius grows with a compressive preload).

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..studies.experiment_3d import window
-from .sphere import _loops
+from .sphere import outline_loops
 from .style import BLUE, DOUBLE_COLUMN, GREEN, ORANGE, PURPLE
 
 __all__ = ["fig_experiment3d_panels", "fig_experiment3d_outlines"]
@@ -73,9 +73,9 @@ def fig_experiment3d_outlines(case, times_s=(0.0, 0.45, 0.62, 0.73, 0.88, 1.25, 
             continue
         stick = np.column_stack([case.stick_outline_x[k].values, case.stick_outline_y[k].values]) * um
         outline = np.column_stack([case.outline_x[k].values, case.outline_y[k].values]) * um
-        for loop in _loops(stick):
+        for loop in outline_loops(stick):
             ax.fill(loop[:, 0], loop[:, 1], color=BLUE, alpha=0.35, lw=0)
-        for loop in _loops(outline):
+        for loop in outline_loops(outline):
             ax.plot(loop[:, 0], loop[:, 1], color="k", lw=0.8)
         ax.set_aspect("equal")
         ax.set_title(f"{t:g} s", fontsize=7)

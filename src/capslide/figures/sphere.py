@@ -16,7 +16,7 @@ from ..params import Parameters
 from ..states import Phase
 from .style import BLUE, DOUBLE_COLUMN, ORANGE, SINGLE_COLUMN
 
-__all__ = ["fig_sphere_Tn", "fig_sphere_Pa", "fig_sphere_Aczoom"]
+__all__ = ["fig_sphere_Tn", "fig_sphere_Pa", "fig_sphere_Aczoom", "outline_loops"]
 
 
 def _normal_steps(case) -> np.ndarray:
@@ -72,7 +72,7 @@ def fig_sphere_Pa(case, params: Parameters):
     return fig
 
 
-def _loops(curve: np.ndarray) -> list[np.ndarray]:
+def outline_loops(curve: np.ndarray) -> list[np.ndarray]:
     """The polylines of a NaN-separated, NaN-padded outline."""
     rows = np.isnan(curve[:, 0])
     cut = np.flatnonzero(rows)
@@ -93,9 +93,9 @@ def fig_sphere_Aczoom(case, params: Parameters, panels: int = 8):
             continue
         outline = np.column_stack([case.outline_x[k].values, case.outline_y[k].values])
         stick = np.column_stack([case.stick_outline_x[k].values, case.stick_outline_y[k].values])
-        for loop in _loops(stick):
+        for loop in outline_loops(stick):
             ax.fill(loop[:, 0], loop[:, 1], color=BLUE, alpha=0.35, lw=0)
-        for loop in _loops(outline):
+        for loop in outline_loops(outline):
             ax.plot(loop[:, 0], loop[:, 1], color="k", lw=0.8)
         ax.set_aspect("equal")
         ax.text(0.03, 0.04, fr"$\bar{{u}} = {float(ubar[k]):.2g}\,L_0$", transform=ax.transAxes, fontsize=7)

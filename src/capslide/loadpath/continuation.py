@@ -235,7 +235,7 @@ def _cut_back(loop: Loop, leg: Leg, step: float, reason: str) -> LegEnd | Notice
     if loop.step < control.minimum:
         return LegEnd(Status.DIVERGED, f"{name}: step below minimum {control.minimum:g} at {loop.value:.6g} "
                       f"({reason})")
-    return Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g}")
+    return Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g} ({reason})")
 
 
 def _advanced(loop: Loop, aim: _Aim, x: np.ndarray) -> float | None:

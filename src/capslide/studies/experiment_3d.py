@@ -9,11 +9,14 @@ from one normal state at zero load (:func:`normal_states`). The paper's window, 
 width, is :func:`window`.
 
 Per case (:func:`features`), from its file, in SI units (forces mN, areas mm^2, lengths um, time s):
-``A0``, the area the slide starts from; ``Fn0``, its normal load (compressive > 0, as the paper's figure 5);
+``A0_target``, ``loading.preload_area`` (NaN for a preload to a force); ``A0``, the area the slide starts from (a
+preload to an area ends within its tolerance, or, where the area jumps over the target as the contact edge snaps
+by a face, on one side of the jump); ``Fn0``, its normal load (compressive > 0, as the paper's figure 5);
 ``peak_Ft`` and ``Ft_over_A_at_peak`` (MPa); ``area_loss_pct``, 1 - A / A0 at the peak; ``extent_ratio_at_peak``
 (the x extent over the y width); ``travel_to_peak`` (the stage's travel, um) and ``t_peak`` = travel / v;
 ``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there) or ``vanished`` (the
-contact came off, at ``Ft_end`` = the last Ft) or ``running`` (neither, within the slide).
+contact came off, at ``Ft_end`` = the last Ft), ``stopped`` (the slide found no equilibrium on: a fold, or no
+convergence at the smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide).
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ from ..states import Phase
 
 __all__ = ["TABLE_COLUMNS", "study_cases", "normal_states", "case_name", "preload_guess", "features", "read_cases",
            "window"]
-TABLE_COLUMNS = ["case", "lambda", "status", "A0", "Fn0", "peak_Ft", "Ft_over_A_at_peak", "area_loss_pct",
+TABLE_COLUMNS = ["case", "lambda", "status", "A0_target", "A0", "Fn0", "peak_Ft", "Ft_over_A_at_peak", "area_loss_pct",
                  "extent_ratio_at_peak", "travel_to_peak", "t_peak", "outcome", "Ft_end"]
 
 
@@ -106,6 +109,8 @@ def features(path: Path) -> dict:
         outcome, Ft_end = "sliding", float(ds["onset_Ft"]) * mN
     elif status == "detached":
         outcome, Ft_end = "vanished", float(c["Ft"][-1]) if len(slide) else math.nan
+    elif status == "diverged":  # no equilibrium found on (a fold, or Newton's failure): the last converged Ft
+        outcome, Ft_end = "stopped", float(c["Ft"][-1]) if len(slide) else math.nan
     else:
         outcome, Ft_end = "running", math.nan
     peak = {"peak_Ft": math.nan, "Ft_over_A_at_peak": math.nan, "area_loss_pct": math.nan,
@@ -114,9 +119,10 @@ def features(path: Path) -> dict:
         peak = {"peak_Ft": abs(float(c["Ft"][k])), "Ft_over_A_at_peak": abs(float(c["Ft"][k])) / float(c["area"][k]) * 1e-3,
                 "area_loss_pct": 100.0 * (1.0 - float(c["area"][k]) / A0), "extent_ratio_at_peak": float(c["extent_ratio"][k]),
                 "travel_to_peak": float(c["ubar"][k]), "t_peak": float(c["time"][k]), "width_at_peak": float(c["x_extent"][k])}
-    c.update(peak, case=Path(path).stem, status=status, A0=A0, Fn0=-float(ds["Fn"].values[start]) * mN,
-             outcome=outcome, Ft_end=Ft_end, v=v, snapshot_ubar=np.asarray(ds["snapshot_ubar"].values) * um
-             if "snapshot_ubar" in ds else np.array([]), path=str(path),
+    target = config["loading"].get("preload_area")
+    c.update(peak, case=Path(path).stem, status=status, A0=A0, A0_target=math.nan if target is None else target * mm2,
+             Fn0=-float(ds["Fn"].values[start]) * mN,
+             outcome=outcome, Ft_end=Ft_end, v=v, path=str(path),
              **{"lambda": float(config["adhesion"]["maugis_lambda"] or math.nan)})
     ds.close()
     return c
