@@ -3,7 +3,11 @@
 1. the tangent against the residual along the Newton increment of a step of --step um (central differences at
    several difference steps: a consistent tangent agrees to second order), and the line search's residuals;
 2. the case resumed to --ubar um, printing for every Newton run that fails its residual norms and the nodes where
-   the last residual is largest (a diagnostic: it wraps the continuation's Newton call).
+   the last residual is largest (a diagnostic: it wraps the continuation's Newton call);
+3. with --active-set, after each failed Newton run, Newton runs with every point's stick/slip state frozen (the
+   return map's classification held, so each run is smooth), the states updated from the result, up to 12 times,
+   printing the points that flip, their gap against DI's cut g_cut and their threshold and traction (a probe of
+   whether the step has a consistent state; it patches the contact's return map, capslide has no such option).
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/slide_newton_diagnosis.py \\
         --checkpoint results/paper/experiment3d/cases/.A0.270.nc.checkpoint --case A0.270 --step 0.3 --ubar 28
@@ -19,10 +23,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import yaml
 
+import capslide.fem.interface as interface
 import capslide.loadpath.continuation as continuation
 from capslide.config import load_config, scene_path
 from capslide.driver.case import run_case
 from capslide.io.checkpoint import config_text, load_checkpoint
+from capslide.laws import contact as contact_laws
 from capslide.loadpath.cap import slide_constraint
 from capslide.model.build import build_model
 from capslide.params import Parameters
@@ -66,12 +72,82 @@ def report_failures() -> None:
     continuation.solve_constrained = wrapped
 
 
+_FROZEN: dict = {"slipping": None}  # the classification the patched return map holds (None: the law's own)
+
+
+def _patch_return_map() -> None:
+    """Let the contact's return map hold the stick/slip states of ``_FROZEN`` (points in the band's active set)."""
+    cls = interface.SurfaceContact
+    active, return_map = cls.active, cls._return_map
+
+    def recorded_active(self, g):
+        self._probe_active = active(self, g)
+        return self._probe_active
+
+    def held_return_map(self, trial, threshold, slip):
+        held = _FROZEN["slipping"]
+        if held is None:
+            return return_map(self, trial, threshold, slip)
+        s = held[self._probe_active]
+        return contact_laws.vector_return_map(trial, threshold, lambda m, t: (
+            np.where(s, t, m), s.copy(), np.where(s, 0.0, 1.0), np.where(s, 1.0, 0.0)))
+
+    cls.active, cls._return_map = recorded_active, held_return_map
+
+
+def _states(model, x, constraint, history):
+    """Slipping per surface point (the law's own return map), the points' gaps and traction magnitudes."""
+    c = model.contact
+    u, h = model.split(x)
+    pts = c._points(u, h, constraint.ubar, history.anchors, history.slip)
+    shape = c.quad.X.shape[:-1]
+    slipping, gap, traction = np.zeros(shape, dtype=bool), np.full(shape, np.nan), np.full(shape, np.nan)
+    slipping[c._probe_active], gap[c._probe_active] = pts.slipping, pts.g
+    traction[c._probe_active] = np.linalg.norm(pts.Tt, axis=-1)
+    return slipping, gap, traction
+
+
+def probe_active_set() -> None:
+    """After a failed Newton run: frozen-state Newton runs, the states updated from each result."""
+    _patch_return_map()
+    solve = continuation.solve_constrained
+
+    def probed(model, constraint, history, x0, opts, dt=0.0):
+        res, solved = solve(model, constraint, history, x0, opts, dt)
+        if res.converged or history.anchors is None or not hasattr(model.contact.law, "g_cut"):
+            return res, solved
+        x, (held, _, _) = x0, _states(model, x0, constraint, history)
+        for k in range(12):
+            _FROZEN["slipping"] = held
+            frozen, _ = solve(model, constraint, history, x, opts, dt)
+            _FROZEN["slipping"] = None
+            if not frozen.converged:
+                print(f"  frozen run {k}: {frozen.reason}")
+                break
+            x = frozen.x
+            now, gap, traction = _states(model, x, constraint, history)
+            law, flipped = model.contact.law, np.argwhere(now != held)
+            print(f"  frozen run {k}: {frozen.iterations} Newton iterations, {len(flipped)} points flip")
+            for i in map(tuple, flipped[:3]):
+                thr = law.threshold(np.array([gap[i]]), np.ones(1))[0][0]
+                print(f"    at {model.contact.quad.current(model.split(x)[0])[0][i].round(2)}: slips now {now[i]}, "
+                      f"g = {gap[i]:.5f} (g_cut {law.g_cut:.5f}), threshold(g) / tau {thr / law.tau:.4f} per reference area, "
+                      f"|T| / tau {traction[i] / law.tau:.4f}")
+            if not len(flipped):
+                break
+            held = now
+        return res, solved
+
+    continuation.solve_constrained = probed
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--checkpoint", required=True)
     ap.add_argument("--case", default="A0.270")
     ap.add_argument("--step", type=float, default=0.3, help="the step of the tangent check (um)")
     ap.add_argument("--ubar", type=float, help="resume to this ubar (um), printing failed Newton runs")
+    ap.add_argument("--active-set", action="store_true", help="probe each failed step with frozen stick/slip states")
     ap.add_argument("--set", action="append", default=[],
                     help="key=value of the checkpoint's case besides the study's (e.g. friction.eps_t=10)")
     args = ap.parse_args()
@@ -83,6 +159,8 @@ def main() -> None:
                   args.step)
     if args.ubar is not None:
         report_failures()
+        if args.active_set:
+            probe_active_set()
         params = Parameters.from_config(load_config([scene_path("experiment")],
                                                     settings={**case, **changed, "loading.ubar_max": args.ubar}))
         res = run_case(params, resume=saved)
