@@ -61,3 +61,13 @@ def test_unknown_kind_and_non_mapping_specs():
         runs({}, "sweep")
     with pytest.raises(ConfigError, match="must be a mapping"):
         runs([1, 2], "stability")
+
+
+def test_a_run_needing_a_missing_library_is_refused_unless_its_jobs_refuse_it(monkeypatch):
+    import capslide.model.cost as cost
+
+    monkeypatch.setattr(cost, "mkl_runtime", lambda: None)
+    pardiso = {"r": {"solver.linear": "lu_krylov", "solver.factorization": "pardiso"}}
+    with pytest.raises(ConfigError, match="run r: solver.factorization = 'pardiso' needs Intel MKL"):
+        check_runs(pardiso, [PAPER_CONFIG])
+    check_runs(pardiso, [PAPER_CONFIG], libraries=False)  # the experiment3d rules: parsed by every run of the workflow
