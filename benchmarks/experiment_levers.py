@@ -2,8 +2,9 @@
 AMG solve of the bulk tangent at rest, against Poisson's ratio, the modelled height and the mesh size.
 
 The tangent of the mixed bulk (H1/P0) at rest with the scene's boundary conditions (base clamped, plane of symmetry)
-and a downward load on the top nodes within 100 um of the axis, solved by the scene's solver (solver.linear: auto,
-pyamg smoothed aggregation on BSR 3x3 blocks with the rigid-body modes, CG to its tolerance). One BLAS thread;
+and a downward load on the top nodes within 100 um of the axis, solved by AMG (solver.linear: amg, 3D's default;
+the scene itself solves with PARDISO, benchmarks/experiment_solvers.py: pyamg smoothed aggregation on BSR 3x3
+blocks with the rigid-body modes, CG to its tolerance). One BLAS thread;
 setup + solve times are the median of --repeats runs, each with a fresh hierarchy.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/experiment_levers.py
@@ -32,7 +33,7 @@ VARIANTS = [
 
 def one_solve(sets: list[str], repeats: int) -> tuple[int, int, float]:
     """(DOF, CG iterations, median seconds of setup + solve)."""
-    model = build_model(Parameters.from_config(load_config([scene_path("experiment")], sets)))
+    model = build_model(Parameters.from_config(load_config([scene_path("experiment")], [*sets, "solver.linear=amg"])))
     _, data = model.bulk.residual_and_tangent_data(np.zeros(model.n_dofs), None)
     b = np.zeros(model.n_dofs)
     top = np.unique(model.mesh.surface_segments)
