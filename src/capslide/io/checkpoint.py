@@ -166,6 +166,15 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
     return out
 
 
+def _mark_rows(marks) -> list[list]:
+    """Marks as JSON rows [phase, ubar, Fn, area_stick, Ft, area]."""
+    return [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in marks]
+
+
+def _marks_of(rows) -> list[Mark]:
+    return [Mark(Phase(int(m[0])), *m[1:]) for m in rows]
+
+
 def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
     """A path state as arrays (current state, loop states, friction, pressure and viscous history) and JSON-able
     header entries."""
@@ -187,10 +196,10 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
         "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
-              "marks": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.marks], "cutbacks": s.cutbacks,
+              "marks": _mark_rows(s.marks), "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
               "onset_ceiling": s.onset_ceiling, "preload_Fn": s.preload_Fn,
-              "area_bracket": [[int(m.phase), m.ubar, m.Fn, m.area_stick, m.Ft, m.area] for m in s.area_bracket]}
+              "area_bracket": _mark_rows(s.area_bracket)}
     return arrays, header
 
 
@@ -205,9 +214,9 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"), networks,
                       meta.get("time", 0.0))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
-                     [Mark(Phase(int(m[0])), *m[1:]) for m in meta["marks"]], meta["cutbacks"], meta["smallest"],
+                     _marks_of(meta["marks"]), meta["cutbacks"], meta["smallest"],
                      meta.get("stage_h"), meta.get("onset_ceiling", float("nan")), meta.get("preload_Fn"),
-                     [Mark(Phase(int(m[0])), *m[1:]) for m in meta.get("area_bracket", [])])
+                     _marks_of(meta.get("area_bracket", [])))
 
 
 def _flock(fh, exclusive: bool) -> None:
