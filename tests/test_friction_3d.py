@@ -111,6 +111,7 @@ FRICTION = {
     "DI_current_normal": ("friction.model=DI", "contact.normal_traction_area=current"),
     "EA": ("friction.model=EA",),
     "DI_weakening": ("friction.model=DI", "friction.static_over_kinetic=1.5", "friction.slip_weakening_distance=0.2"),
+    "DI_step_start": ("friction.model=DI", "friction.threshold_at=step_start"),
 }
 
 
@@ -133,7 +134,7 @@ def test_bordered_jacobian_with_friction(name, shift):
     x[model.bc.dofs] = 0.0
     ubar = 1e-4
     c = model.contact
-    _, state = c.tangential_state(x[:-1], x[-1], ubar, history.anchors, history.slip)
+    _, state = c.tangential_state(x[:-1], x[-1], ubar, *history.friction)
     sticking, slipping = (state == 1).sum(), (state == 2).sum()
     print(name, shift, "stick", sticking, "slip", slipping)
     if shift == 0.0005:  # EA's threshold vanishes at g_cut: points near the edge slip at any shear

@@ -111,6 +111,9 @@ def _check_no_op_keys(config: Mapping) -> None:
     if fr["DI_area"] != "current" and fr["model"] != "DI":
         raise ConfigError(f"friction.DI_area = {fr['DI_area']!r} is not allowed with friction.model = {fr['model']}: "
                           "it sets model DI's threshold")
+    if fr["threshold_at"] != "current" and fr["model"] == "none":
+        raise ConfigError(f"friction.threshold_at = {fr['threshold_at']!r} is not allowed with friction.model = none: "
+                          "there is no threshold")
     if load["dwell"] > 0.0 and load["velocity"] is None:
         raise ConfigError(f"loading.dwell = {load['dwell']!r} is not allowed with loading.velocity = None: a dwell is "
                           "time at rest, and a quasi-static path has no time (give the stage's speed, m/s)")

@@ -127,6 +127,7 @@ class Friction:
     static_over_kinetic: float = 1.0  # static threshold / kinetic threshold (the law's)
     slip_weakening_distance: float = 0.1  # L0: slip over which the threshold falls from static to kinetic
     active_from: str = "slide"  # friction acts from the slide on, or from the first contact
+    threshold_at: str = "current"  # the threshold at the current state, or fixed at the step's start state
 
     @property
     def weakening(self) -> tuple[float, float] | None:
@@ -309,6 +310,7 @@ class Parameters:
             static_over_kinetic=float(fr["static_over_kinetic"]),
             slip_weakening_distance=float(fr["slip_weakening_distance"]),
             active_from=fr["active_from"],
+            threshold_at=fr["threshold_at"],
         )
         loading = Loading(
             preload=float(load["preload"]), ubar_max=float(load["ubar_max"]),

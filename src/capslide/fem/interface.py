@@ -26,7 +26,11 @@ history: they are passed in explicitly (None: friction not started) and
 renewed only by :meth:`SurfaceContact.committed_anchors` at converged steps.
 With static and kinetic thresholds (``weakening``), the threshold weakens with
 each point's accumulated slip (:func:`capslide.laws.contact.weakening_return_map`),
-also an explicit input (``slip``, None: no weakening).
+also an explicit input (``slip``, None: no weakening). With the threshold fixed
+over a step (``friction.threshold_at = step_start``), the thresholds of the
+step's start state (:meth:`SurfaceContact.point_thresholds`) are a third
+explicit input (``thresholds``): the return map then takes them as they are,
+with no derivative in g_n or J_s.
 
 Only points with g_n below ``far_gap`` are evaluated and assembled: the
 law's tail beyond it is dropped (the error it makes is a measured knob).
@@ -115,6 +119,7 @@ class SurfaceContact:
         self.mesh, self.adhesion, self.law = mesh, adhesion, law
         return_map = return_map or ReturnMapSettings(0.0)
         self.eps_t, self.weakening = return_map.eps_t, return_map.weakening
+        self.threshold_at_step_start = return_map.threshold_at_step_start
         self.normal_per_current_area = normal_per_current_area
         self.contact_gap = contact_gap  # points with g_n <= contact_gap count as in contact
         self.quad = SurfaceQuadrature.on(mesh, n_gauss)
@@ -158,7 +163,7 @@ class SurfaceContact:
         return np.flatnonzero(np.any(g < self.far_gap, axis=1))
 
     def _points(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
-                slip: np.ndarray | None = None) -> _Points:
+                slip: np.ndarray | None = None, thresholds: np.ndarray | None = None) -> _Points:
         x, t = self.quad.current(u)
         g = h - x[..., self.vertical]
         act = self.active(g)
@@ -173,7 +178,11 @@ class SurfaceContact:
             pts.theta = J
         if friction:
             eps_t = self.eps_t
-            thr, dthr_dg, dthr_dJ = (np.where(near, v, 0.0) for v in self.law.threshold(g, J))
+            if self.threshold_at_step_start and thresholds is not None:  # fixed over the step
+                thr = thresholds[act]
+                dthr_dg = dthr_dJ = np.zeros_like(thr)
+            else:
+                thr, dthr_dg, dthr_dJ = (np.where(near, v, 0.0) for v in self.law.threshold(g, J))
             if self.dim == 3:  # the vector tangential gap in the plane, (x, y) - anchor - (ubar, 0)
                 trial = -eps_t * (x[..., :2] - anchors[act] - np.array([ubar, 0.0]))
                 dthr_dg, dthr_dJ = dthr_dg[..., None], dthr_dJ[..., None]
@@ -198,9 +207,9 @@ class SurfaceContact:
 
     # -- residual and linearization --------------------------------------
     def force(self, u: np.ndarray, h: float, ubar: float = 0.0, anchors: np.ndarray | None = None,
-              slip: np.ndarray | None = None) -> tuple[np.ndarray, float, float]:
+              slip: np.ndarray | None = None, thresholds: np.ndarray | None = None) -> tuple[np.ndarray, float, float]:
         """Contact force vector on the cap (n_dofs), Fn and Ft."""
-        pts = self._points(u, h, ubar, anchors, slip)
+        pts = self._points(u, h, ubar, anchors, slip, thresholds)
         W, N, seg = self.quad.weight[pts.act], self.quad.N, self.quad.segments[pts.act]
         f = np.zeros(self.n_dofs)
         np.add.at(f, self.dim * seg + self.vertical, -np.einsum("ga,sg,sg->sa", N, pts.Tn_ref, W))  # T_y = -theta_k Tn
@@ -223,8 +232,8 @@ class SurfaceContact:
         return value if self.multiplicity == 1.0 else self.multiplicity * value
 
     def linearize(self, u: np.ndarray, h: float, ubar: float = 0.0, anchors: np.ndarray | None = None,
-                  slip: np.ndarray | None = None) -> ContactLinearization:
-        pts = self._points(u, h, ubar, anchors, slip)
+                  slip: np.ndarray | None = None, thresholds: np.ndarray | None = None) -> ContactLinearization:
+        pts = self._points(u, h, ubar, anchors, slip, thresholds)
         act = pts.act
         W, N, dN = self.quad.weight[act], self.quad.N, self.quad.dN
         seg = self.quad.segments[act]
@@ -299,7 +308,8 @@ class SurfaceContact:
         return self._in_plane(x, ubar)
 
     def tangential_state(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
-                         slip: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                         slip: np.ndarray | None = None, thresholds: np.ndarray | None = None
+                         ) -> tuple[np.ndarray, np.ndarray]:
         """Per point (s, g): tangential traction T_t (3D: (s, g, 2), x and y) and slip states
         (:class:`capslide.states.SlipState`).
 
@@ -311,7 +321,7 @@ class SurfaceContact:
         g, _ = self.gaps(u, h)
         in_contact = g <= self.contact_gap
         if self.friction_active(anchors):
-            pts = self._points(u, h, ubar, anchors, slip)
+            pts = self._points(u, h, ubar, anchors, slip, thresholds)
             Tt[pts.act] = pts.Tt
             st = np.where(pts.slipping, SlipState.SLIP, SlipState.STICK).astype(np.int8)
             state[pts.act] = st
@@ -321,11 +331,23 @@ class SurfaceContact:
         return Tt, state
 
     def committed_anchors(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
-                          slip: np.ndarray | None = None) -> np.ndarray | None:
+                          slip: np.ndarray | None = None, thresholds: np.ndarray | None = None) -> np.ndarray | None:
         """The anchors after the converged state (u, h, ubar): slipping points move with the return map."""
         if not self.friction_active(anchors):
             return anchors
         x, _ = self.quad.current(u)
-        Tt, _ = self.tangential_state(u, h, ubar, anchors, slip)
+        Tt, _ = self.tangential_state(u, h, ubar, anchors, slip, thresholds)
         # anchor such that -eps_t (x - xi - ubar) = T_t
         return self._in_plane(x, ubar) + Tt / self.eps_t
+
+    def point_thresholds(self, u: np.ndarray, h: float) -> np.ndarray | None:
+        """The law's sliding threshold per reference area at every point (s, g) of the state (u, h), zero beyond
+        far_gap: the thresholds a step from this state holds fixed (``threshold_at_step_start``); None when the
+        threshold follows the current state or there is no law."""
+        if not self.threshold_at_step_start or self.law is None:
+            return None
+        x, t = self.quad.current(u)
+        g = h - x[..., self.vertical]
+        near = g < self.far_gap
+        thr, _, _ = self.law.threshold(np.where(near, g, self.far_gap), stretch(t, self.ref_len, self.dim))
+        return np.where(near, thr, 0.0)

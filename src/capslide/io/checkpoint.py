@@ -187,6 +187,8 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         arrays["anchors"] = s.history.anchors
     if s.history.slip is not None:
         arrays["accumulated_slip"] = s.history.slip
+    if s.history.thresholds is not None:
+        arrays["frozen_thresholds"] = s.history.thresholds
     if s.history.pressure is not None:
         arrays["pressure_multiplier"] = s.history.pressure
     if s.history.networks is not None:
@@ -212,7 +214,7 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
                                         lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
     networks = None if "viscous_networks" not in data else Networks(data["viscous_networks"], data["viscous_c_inv"])
     history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"), networks,
-                      meta.get("time", 0.0))
+                      meta.get("time", 0.0), data.get("frozen_thresholds"))
     return PathState(meta["leg"], data["x"], history, loop, list(meta["targets"]),
                      _marks_of(meta["marks"]), meta["cutbacks"], meta["smallest"],
                      meta.get("stage_h"), meta.get("onset_ceiling", float("nan")), meta.get("preload_Fn"),

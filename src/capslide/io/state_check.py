@@ -23,7 +23,7 @@ from ..states import Phase, SlipState, Status
 __all__ = ["SavedStateMismatch", "BadField", "check_header", "check_arrays", "check_record_arrays", "check_snapshot_arrays",
            "shape_problem"]
 
-PATH_ARRAYS = ("x", "loop_x", "loop_x_prev", "anchors", "accumulated_slip", "pressure_multiplier",
+PATH_ARRAYS = ("x", "loop_x", "loop_x_prev", "anchors", "accumulated_slip", "frozen_thresholds", "pressure_multiplier",
                "viscous_networks", "viscous_c_inv")
 INTEGER_SCALARS = ("phase", "newton_iterations", "krylov_iterations", "steady_step")
 
@@ -202,7 +202,8 @@ def _path_arrays(state) -> dict[str, np.ndarray | None]:
     loop, h = state.loop, state.history
     nets = h.networks
     return {"x": state.x, "loop_x": None if loop is None else loop.x, "loop_x_prev": None if loop is None else loop.x_prev,
-            "anchors": h.anchors, "accumulated_slip": h.slip, "pressure_multiplier": h.pressure,
+            "anchors": h.anchors, "accumulated_slip": h.slip, "frozen_thresholds": h.thresholds,
+            "pressure_multiplier": h.pressure,
             "viscous_networks": None if nets is None else nets.networks, "viscous_c_inv": None if nets is None else nets.c_inv}
 
 

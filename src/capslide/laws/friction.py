@@ -69,11 +69,13 @@ class Sticking:
 
 @dataclass(frozen=True)
 class ReturnMapSettings:
-    """How a law's threshold is enforced: the tangential penalty ``eps_t`` (E/L0) and the slip weakening
-    (static/kinetic ratio, slip-weakening distance D_c in L0), None for one threshold."""
+    """How a law's threshold is enforced: the tangential penalty ``eps_t`` (E/L0), the slip weakening
+    (static/kinetic ratio, slip-weakening distance D_c in L0), None for one threshold, and whether the threshold is
+    fixed over a step at its value at the step's start state (``friction.threshold_at = step_start``)."""
 
     eps_t: float
     weakening: tuple[float, float] | None = None
+    threshold_at_step_start: bool = False
 
 
 def friction_law(friction: Friction, adhesion: Adhesion) -> FrictionLaw | None:

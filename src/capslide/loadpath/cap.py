@@ -209,7 +209,7 @@ def _after_dwell(model: CapModel) -> LegName:
 def _current_Fn(model: CapModel, state: PathState) -> float:
     if state.marks:
         return state.marks[-1].Fn
-    return model.contact.force(state.x[:-1], state.x[-1], 0.0, state.history.anchors, state.history.slip)[1]
+    return model.contact.force(state.x[:-1], state.x[-1], 0.0, *state.history.friction)[1]
 
 
 def _preload_targets(model: CapModel, state: PathState) -> list[float]:

@@ -87,8 +87,8 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     g, xs = c.gaps(u, h)
     Tn, _ = c.traction(g)
     Tn = c.theta(u) * Tn  # per reference area
-    _, Fn, Ft = c.force(u, h, ubar, history.anchors, history.slip)
-    Tt, state = c.tangential_state(u, h, ubar, history.anchors, history.slip)
+    _, Fn, Ft = c.force(u, h, ubar, *history.friction)
+    Tt, state = c.tangential_state(u, h, ubar, *history.friction)
     pts, gg, tn, st = xs.reshape(-1, model.dim), g.ravel(), Tn.ravel(), state.ravel()
     open_gap = gg - model.params.contact.area_gap
     width = math.nan
@@ -105,7 +105,7 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
         sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)
     slip = np.zeros(Tt.shape)
     if c.friction_active(history.anchors):  # the anchors move by the slip of the step (zero where sticking)
-        slip = c.committed_anchors(u, h, ubar, history.anchors, history.slip) - history.anchors
+        slip = c.committed_anchors(u, h, ubar, *history.friction) - history.anchors
     # the penalty's elastic energy: T_t = -eps_t times the elastic tangential gap after the step
     Tt2 = Tt.ravel() ** 2 if model.dim == 2 else np.sum(Tt**2, axis=-1).ravel()
     penalty = float(np.sum(Tt2 * c.quad.weight.ravel())) / (2.0 * c.eps_t) if c.eps_t > 0 else 0.0
@@ -158,7 +158,7 @@ def field_snapshot(model: CapModel, x: np.ndarray, ubar: float, history: History
     history = history or History()
     if slip_state is None:
         u, h = model.split(x)
-        slip_state = model.contact.tangential_state(u, h, ubar, history.anchors, history.slip)[1].ravel()
+        slip_state = model.contact.tangential_state(u, h, ubar, *history.friction)[1].ravel()
     return Snapshot(ubar, x[:-1].reshape(-1, model.dim).copy(), model.cell_first_invariant(x, history), float(x[-1]),
                     np.asarray(slip_state, dtype=np.int8).copy())
 

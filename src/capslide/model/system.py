@@ -36,13 +36,21 @@ class History:
     None before friction;
     with slip weakening each point's accumulated slip (s, g), None without; at nu = 0.5 the augmented Lagrangian's
     pressure multiplier (n_cells, 3; P1 coefficients, E), None = zero (fem.mixed); with a viscoelastic bulk the
-    branches' networks (fem.viscous), None = undeformed; the time of the state (s; 0 when quasi-static)."""
+    branches' networks (fem.viscous), None = undeformed; the time of the state (s; 0 when quasi-static); with
+    ``friction.threshold_at = step_start`` the sliding thresholds of the state (s, g; E), which the next step holds
+    fixed, None otherwise."""
 
     anchors: np.ndarray | None = None
     slip: np.ndarray | None = None
     pressure: np.ndarray | None = None
     networks: Networks | None = None
     time: float = 0.0
+    thresholds: np.ndarray | None = None
+
+    @property
+    def friction(self) -> tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None]:
+        """The friction history as the contact's methods take it: (anchors, slip, thresholds)."""
+        return self.anchors, self.slip, self.thresholds
 
 
 class BorderedSolve:
@@ -91,7 +99,8 @@ class CapModel:
             mesh, params.adhesion, params.mesh.surface_gauss_points,
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
             law=friction_law(params.friction, params.adhesion),
-            return_map=ReturnMapSettings(params.friction.eps_t, params.friction.weakening),
+            return_map=ReturnMapSettings(params.friction.eps_t, params.friction.weakening,
+                                         params.friction.threshold_at == "step_start"),
             contact_gap=params.contact.area_gap,
             normal_per_current_area=params.contact.normal_traction_area == "current",
         )
@@ -124,7 +133,7 @@ class CapModel:
         alone: the model of the slide's stick predictor (loadpath.continuation)."""
         stuck = copy.copy(self)
         stuck.contact = copy.copy(self.contact)
-        stuck.contact.law, stuck.contact.weakening = Sticking(), None
+        stuck.contact.law, stuck.contact.weakening, stuck.contact.threshold_at_step_start = Sticking(), None, False
         stuck.solver = replace(self.solver)
         return stuck
 
@@ -169,7 +178,7 @@ class CapModel:
 
     def residual(self, x: np.ndarray, constraint, history: History, dt: float = 0.0) -> np.ndarray:
         u, h = self.split(x)
-        f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, history.anchors, history.slip)
+        f_c, Fn, _ = self.contact.force(u, h, constraint.ubar, *history.friction)
         r = self.internal_force(u, history, dt) - f_c
         r[self.bc.dofs] = 0.0
         return np.concatenate([r, [constraint.residual(self, x, Fn)]])
@@ -181,7 +190,7 @@ class CapModel:
         if self.branches is not None:
             f_v, data_v = self.branches.residual_and_tangent_data(u, history.networks, dt)
             f_int, data = f_int + f_v, data + data_v
-        lin = self.contact.linearize(u, h, constraint.ubar, history.anchors, history.slip)
+        lin = self.contact.linearize(u, h, constraint.ubar, *history.friction)
         np.add.at(data, self._contact_slots[lin.active_segments].ravel(), lin.blocks.ravel())
         r = f_int - lin.f
         self.bc.apply(data, r)
@@ -208,7 +217,8 @@ class CapModel:
         points, n_dofs = self.contact.quad.X.shape[:-1], self.n_dofs + 1
         anchors = points if self.dim == 2 else (*points, 2)
         shapes = {"x": (n_dofs,), "loop_x": (n_dofs,), "loop_x_prev": (n_dofs,), "anchors": anchors,
-                  "accumulated_slip": points, "profile": (int(np.prod(points)),), "reaction": (self.dim,),
+                  "accumulated_slip": points, "frozen_thresholds": points,
+                  "profile": (int(np.prod(points)),), "reaction": (self.dim,),
                   "profile_3d": (int(np.prod(points)) if self.dim == 3 else 0,),
                   "snapshot_u": (self.mesh.n_nodes, self.dim), "snapshot_I1_sigma": (self.mesh.n_cells,)}
         if self.params.mesh.formulation == "mixed":
@@ -223,13 +233,17 @@ class CapModel:
         """``history`` (default: none) with every surface point anchored where it is (friction acts from here on)."""
         anchors = self.contact.anchors_at(x[:-1], ubar)
         slip = None if self.contact.weakening is None else np.zeros(self.contact.quad.weight.shape)
-        return replace(history or History(), anchors=anchors, slip=slip)
+        return replace(history or History(), anchors=anchors, slip=slip,
+                       thresholds=self.contact.point_thresholds(x[:-1], x[-1]))
 
     def commit(self, x: np.ndarray, ubar: float, history: History, dt: float = 0.0) -> History:
         """The history after the converged state x, a step of dt seconds on (slipping points' anchors follow the
-        return map, and their accumulated slip grows by the anchors' move; the viscous networks relax)."""
-        anchors = self.contact.committed_anchors(x[:-1], x[-1], ubar, history.anchors, history.slip)
+        return map, and their accumulated slip grows by the anchors' move; the viscous networks relax; the thresholds
+        that the next step holds fixed are x's)."""
+        anchors = self.contact.committed_anchors(x[:-1], x[-1], ubar, *history.friction)
         history = self.committed_bulk(x, history, dt)
+        if anchors is not None:
+            history = replace(history, thresholds=self.contact.point_thresholds(x[:-1], x[-1]))
         if history.slip is None:
             return replace(history, anchors=anchors)
         moved = anchors - history.anchors
