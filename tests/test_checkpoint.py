@@ -264,6 +264,21 @@ def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp
     assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))
 
 
+def test_resume_carries_the_thresholds_a_step_holds(paper_config, tmp_path):
+    """With friction.threshold_at = step_start each step takes the thresholds of its start state: a resume
+    mid-slide repeats the uninterrupted history bit for bit only if the checkpoint carries them."""
+    config = validate(apply_overrides(paper_config, [*COARSE, "loading.slide_back=false",
+                                                     "friction.threshold_at=step_start"]))
+    params, text = Parameters.from_config(config), config_text(config)
+    full = run_saving(params, tmp_path / "full", 5)
+    after = [i for i, r in enumerate(full.records) if r.phase == Phase.SLIDE][0] + 6
+    with pytest.raises(Killed):
+        run_saving(params, tmp_path / "ckpt", 5, observers=[kill_after_steps(after)])
+    saved = load_checkpoint(tmp_path / "ckpt", text)
+    assert saved.state.history.thresholds is not None and saved.state.history.thresholds.max() > 0.0
+    assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))
+
+
 class OnsetCeilings(Observer):
     """Records, after every converged step, the path's onset ceiling and whether the stick zone is still open."""
 

@@ -133,3 +133,4 @@ def test_energy_balance_closes_to_second_order_in_the_step(paper_config):
     # every step to 1e-6 of the work at max_slide_step 0.05 (measured 2.5e-7; 1.8e-6 at 0.1): the local error
     # of the trapezoidal work is third order in the step
     assert worst[1] <= 1e-6 and worst[1] < worst[0] / 4.0
+

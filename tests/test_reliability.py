@@ -319,6 +319,7 @@ def test_pull_off_of_a_completed_case_is_refused(tmp_path):
     ({"loading.velocity": 5e-324}, "infinite time"),
     ({"loading.spring_stiffness": 2e5}, "normal_control = force"),
     ({"friction.model": "EA", "friction.DI_area": "reference"}, "friction.model = EA"),
+    ({"friction.model": "none", "friction.threshold_at": "step_start"}, "friction.model = none"),
     ({"loading.dwell": 2.0}, "loading.velocity = None"),
 ])
 def test_inputs_that_fail_or_do_nothing_are_refused(paper_config, sets, words):

@@ -71,6 +71,33 @@ def test_di_sphere_slides_fully_at_tau_times_area(di_sphere):
     assert lateral < 0.02  # 0.8 % at ubar = 2.7 on this mesh
 
 
+def _points_area(p, result):
+    """The whole sphere's current area of the surface points with g_n <= the contact gap, and the quadrature."""
+    c = SurfaceContact(result.mesh, p.adhesion, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
+    u, h = result.final_x[:-1], result.final_x[-1]
+    g, _ = c.gaps(u, h)
+    J = stretch(c.quad.current(u)[1], c.quad.ref_measure, 3)
+    return 2.0 * float(np.sum((c.quad.weight * J)[g <= p.contact.area_gap]))
+
+
+def test_a_threshold_held_over_each_step_slides_as_the_law(di_sphere, tmp_path_factory):
+    """friction.threshold_at = step_start (the experiment scene's) holds each step's thresholds at its start state:
+    its slide follows the current-state threshold's to within one step's change of the threshold (peak Ft within
+    0.1 %, onset within one step), and at full sliding it gives Ft = tau x A within 0.5 %."""
+    p, result, ds = _run(tmp_path_factory, "held", "friction.model=DI", "loading.ubar_max=2.7",
+                         "friction.threshold_at=step_start")
+    _, _, current = di_sphere
+    assert ds.attrs["status"] == "completed", ds.attrs.get("status_reason")
+    peak, peak_current = float(np.abs(ds.Ft).max()), float(np.abs(current.Ft).max())
+    ratio = float(ds.Ft[-1]) / (p.friction.tau_DI * _points_area(p, result))
+    print("peak Ft", peak, "current", peak_current, "onset", float(ds.onset_ubar), float(current.onset_ubar),
+          "Ft / (tau A)", ratio)
+    assert peak != peak_current and peak == pytest.approx(peak_current, rel=1e-3)
+    assert float(ds.onset_ubar) == pytest.approx(float(current.onset_ubar), abs=0.3)  # max_slide_step
+    assert abs(ratio - 1.0) < 0.005
+    assert not (ds.isel(step=-1).slip_state.values == SlipState.STICK).any()
+
+
 def test_di_sphere_balances_forces_and_energy(di_sphere):
     _, _, ds = di_sphere
     Ft_max = float(np.abs(ds.Ft).max())

@@ -235,6 +235,7 @@ class SolverSpec:
     newton_max_iterations: int
     krylov_rtol: float
     factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
+    snap_through: bool = False  # a step failing below the minimum step is tried by pseudo-transient continuation
 
 
 def spring_unit(config: Mapping) -> float:
@@ -358,6 +359,7 @@ class Parameters:
                 linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),
                 newton_max_iterations=int(sol["newton_max_iterations"]),
+                snap_through=bool(sol["snap_through"]),
                 krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
             ),
             output=Output(snapshot_ubar=tuple(config["output"]["snapshot_ubar"]),

@@ -29,6 +29,7 @@ from ..model.system import CapModel, History
 from ..solvers.newton import NewtonOptions, NewtonResult, newton
 from ..states import Phase, Status
 from .measures import StepRecord, measure
+from .snap_through import pseudo_transient
 
 __all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "Notice", "newton_options", "solve_constrained", "continuation",
            "Returning", "drain"]
@@ -208,16 +209,28 @@ def _solved_step(model: CapModel, loop: Loop, leg: Leg, history: History, target
     return (res if stick is None else _after(stick, res)), solved
 
 
+def _snapped_through(model: CapModel, loop: Loop, leg: Leg, history: History, target: float, opts: NewtonOptions,
+                     dt: float, constraint) -> tuple[NewtonResult, History]:
+    """The step to ``target`` by pseudo-transient continuation from the last state, then Newton from where it
+    hands over (``solver.snap_through``, :mod:`capslide.loadpath.snap_through`)."""
+    transient = pseudo_transient(model, constraint, history, loop.x, dt)
+    if not transient.converged:
+        return transient, history
+    res, solved = solve_constrained(model, constraint, history, transient.x, opts, dt)
+    return _after(transient, res), solved
+
+
 def _judged(model: CapModel, loop: Loop, leg: Leg, res: NewtonResult, solved: History, aim: _Aim, constraint,
-            wall: float, dt: float) -> tuple[StepRecord | None, str, bool]:
+            wall: float, dt: float, snapped: bool = False) -> tuple[StepRecord | None, str, bool]:
     """The record of a converged step, or None with the reason it counts as failed (no convergence, the leg's
-    rejection, a long step that ended unsteady); and whether the steady rule still holds after it."""
+    rejection, a long step that ended unsteady); and whether the steady rule still holds after it. A step that
+    ``snapped`` through is not judged by the leg's rejections: a jump is what it is."""
     if not res.converged:
         return None, res.reason, False
     rec = measure(model, res.x, solved, leg.phase, constraint.ubar, res.iterations, res.linear_iterations, wall, dt)
     rec.steady_step = aim.long_step
     still_steady = leg.steady is not None and leg.steady(rec, loop.x)
-    rejected = leg.rejects(rec) if leg.rejects is not None else None
+    rejected = leg.rejects(rec) if leg.rejects is not None and not snapped else None
     if rejected is None and aim.long_step and not still_steady:
         rejected = "not steady over the long step"
     return (None, rejected, still_steady) if rejected is not None else (rec, res.reason, still_steady)
@@ -273,10 +286,18 @@ def continuation(model: CapModel, loop: Loop, history: History,
         rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint, time.perf_counter() - t0, dt)
         if rec is None:
             outcome = _cut_back(loop, leg, aim.step, reason)
+            if isinstance(outcome, LegEnd) and loop.step < leg.control.minimum and model.params.solver.snap_through:
+                res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
+                rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint,
+                                                    time.perf_counter() - t0, dt, snapped=True)
+                outcome = Notice(f"{leg.name}: snapped through at {aim.target:.4g} ({res.iterations} iterations)") \
+                    if rec is not None else LegEnd(outcome.status, f"{outcome.reason}; snap-through: {reason}")
+                loop.step = max(loop.step, leg.control.minimum)
             if isinstance(outcome, LegEnd):
                 return outcome
             yield outcome
-            continue
+            if rec is None:
+                continue
         landed = _advanced(loop, aim, res.x)
         history = model.commit(loop.x, constraint.ubar, solved, dt)  # the history only at converged steps
         status = leg.ends(rec) if leg.ends is not None else None
