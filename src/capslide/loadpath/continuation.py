@@ -29,7 +29,7 @@ from ..model.system import CapModel, History
 from ..solvers.newton import NewtonOptions, NewtonResult, newton
 from ..states import Phase, Status
 from .measures import StepRecord, measure
-from .snap_through import pseudo_transient
+from .snap_through import PseudoTransient, pseudo_transient
 
 __all__ = ["StepControl", "Leg", "Loop", "LegEnd", "Converged", "Notice", "newton_options", "solve_constrained", "continuation",
            "Returning", "drain"]
@@ -213,7 +213,7 @@ def _snapped_through(model: CapModel, loop: Loop, leg: Leg, history: History, ta
                      dt: float, constraint) -> tuple[NewtonResult, History]:
     """The step to ``target`` by pseudo-transient continuation from the last state, then Newton from where it
     hands over (``solver.snap_through``, :mod:`capslide.loadpath.snap_through`)."""
-    transient = pseudo_transient(model, constraint, history, loop.x, dt)
+    transient = pseudo_transient(model, constraint, history, loop.x, dt, PseudoTransient(handover=max(opts.atol, opts.rtol)))
     if not transient.converged:
         return transient, history
     res, solved = solve_constrained(model, constraint, history, transient.x, opts, dt)
@@ -287,7 +287,10 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if rec is None:
             outcome = _cut_back(loop, leg, aim.step, reason)
             if isinstance(outcome, LegEnd) and loop.step < leg.control.minimum and model.params.solver.snap_through:
-                res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
+                # no equilibrium near the last: go by pseudo-transient continuation; a converged step that the leg
+                # rejected (a jump that persists at the minimum step) stands as it is
+                if not res.converged:
+                    res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
                 rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint,
                                                     time.perf_counter() - t0, dt, snapped=True)
                 outcome = Notice(f"{leg.name}: snapped through at {aim.target:.4g} ({res.iterations} iterations)") \
