@@ -1,0 +1,80 @@
+"""Passing a snap (solver.snap_through, loadpath/snap_through.py): pseudo-transient continuation reaches the
+equilibrium Newton reaches, and a slide step that fails or jumps at the minimum step is passed instead of ending the
+case. Coarse 2D cases at zero load (a few seconds each)."""
+
+import numpy as np
+import pytest
+
+import capslide.loadpath.continuation as continuation
+from capslide.config import apply_overrides, validate
+from capslide.driver.case import run_case
+from capslide.model.build import build_model
+from capslide.model.constraints import FixedForce
+from capslide.model.system import History
+from capslide.loadpath.snap_through import PseudoTransient, pseudo_transient
+from capslide.params import Parameters
+from capslide.solvers.newton import NewtonResult
+from capslide.states import Phase, Status
+
+COARSE = ["mesh.size=32", "loading.ubar_max=1.0", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]",
+          "loading.preload=0.0"]
+
+
+def _params(paper_config, *overrides) -> Parameters:
+    return Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *overrides])))
+
+
+def test_pseudo_transient_continuation_reaches_the_equilibrium(paper_config):
+    """From the normal state at zero load with every displacement 20 % larger, the continuation returns to it within
+    1e-6 L0, in more than one iteration; given two iterations only, it reports failure."""
+    p = _params(paper_config, "loading.ubar_max=0")
+    res = run_case(p)
+    assert res.status == Status.COMPLETED
+    model = build_model(p)
+    x_star = res.final_x
+    x0 = x_star.copy()
+    x0[:-1] *= 1.2  # every displacement 20 % larger, the substrate where it was
+    assert model.admissible(x0)
+    constraint = FixedForce(res.records[-1].Fn)
+    out = pseudo_transient(model, constraint, History(), x0, settings=PseudoTransient(handover=1e-10))
+    print("iterations", out.iterations, "residuals", out.residual_norms[0], out.residual_norms[-1])
+    assert out.converged and out.iterations > 1 and out.residual_norms[-1] <= 1e-10
+    np.testing.assert_allclose(out.x, x_star, atol=1e-6)
+    short = pseudo_transient(model, constraint, History(), x0, settings=PseudoTransient(max_iterations=2))
+    assert not short.converged and "after 2 iterations" in short.reason
+
+
+def _failing_across(monkeypatch, ubar, converged):
+    """Slide steps across ``ubar`` come back failed (not converged), or converged but rejected as if the area had
+    jumped (``converged``)."""
+    solved_step = continuation._solved_step
+    judged = continuation._judged
+
+    def failing(model, loop, leg, history, target, opts, dt, constraint):
+        res, solved = solved_step(model, loop, leg, history, target, opts, dt, constraint)
+        if leg.phase == Phase.SLIDE and loop.value < ubar < target and not converged:
+            res = NewtonResult(res.x, False, res.iterations, "forced failure", res.residual_norms)
+        return res, solved
+
+    def rejecting(model, loop, leg, res, solved, aim, constraint, wall, dt, snapped=False):
+        if converged and leg.phase == Phase.SLIDE and loop.value < ubar < aim.target and not snapped:
+            return None, "forced jump", False
+        return judged(model, loop, leg, res, solved, aim, constraint, wall, dt, snapped)
+
+    monkeypatch.setattr(continuation, "_solved_step", failing)
+    monkeypatch.setattr(continuation, "_judged", rejecting)
+
+
+@pytest.mark.parametrize("converged", [False, True], ids=["no_equilibrium", "jump"])
+def test_a_slide_passes_a_step_that_fails_at_the_minimum_step(paper_config, monkeypatch, converged):
+    """Every slide step across ubar = 0.5 L0 fails (or converges and is rejected as a jump): by default the case ends
+    diverged there; with snap_through the step that failed at the minimum step is taken by pseudo-transient
+    continuation (or the jump stands), the case completes, and its state there is an equilibrium as any other."""
+    _failing_across(monkeypatch, 0.5, converged)
+    plain = run_case(_params(paper_config))
+    assert plain.status == Status.DIVERGED and "step below minimum" in plain.reason
+    snapping = run_case(_params(paper_config, "solver.snap_through=true"))
+    assert snapping.status == Status.COMPLETED, snapping.reason
+    slide = [r for r in snapping.records if r.phase == Phase.SLIDE]
+    assert any(0.5 < r.ubar < 0.5 + 1e-3 for r in slide) and slide[-1].ubar == pytest.approx(1.0)
+    assert plain.records[-1].ubar < 0.5
