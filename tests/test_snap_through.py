@@ -8,10 +8,10 @@ import pytest
 import capslide.loadpath.continuation as continuation
 from capslide.config import apply_overrides, validate
 from capslide.driver.case import run_case
+from capslide.loadpath.snap_through import PseudoTransient, pseudo_transient
 from capslide.model.build import build_model
 from capslide.model.constraints import FixedForce
 from capslide.model.system import History
-from capslide.loadpath.snap_through import PseudoTransient, pseudo_transient
 from capslide.params import Parameters
 from capslide.solvers.newton import NewtonResult
 from capslide.states import Phase, Status
