@@ -53,22 +53,22 @@ def pseudo_transient(model: CapModel, constraint, history: History, x0: np.ndarr
         try:
             dx = shifted(r)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
-            return NewtonResult(x, False, it, f"snap-through: linear solve failed: {err}", norms, krylov)
+            return NewtonResult(x, False, it, f"linear solve failed: {err}", norms, krylov)
         krylov += shifted.iterations
         x_try = x - dx
         if not (np.all(np.isfinite(dx)) and model.admissible(x_try)):
             sigma *= 10.0
             if sigma > settings.largest_shift:
-                return NewtonResult(x, False, it, "snap-through: no admissible iterate", norms, krylov)
+                return NewtonResult(x, False, it, "no admissible iterate", norms, krylov)
             continue
         x = x_try
         r_prev, (r, bordered) = r_norm, model.linearize(x, constraint, history, dt)
         r_norm = float(np.linalg.norm(r))
         norms.append(r_norm)
         if not math.isfinite(r_norm):
-            return NewtonResult(x, False, it, "snap-through: residual is not finite", norms, krylov)
+            return NewtonResult(x, False, it, "residual is not finite", norms, krylov)
         if r_norm <= settings.handover:
             return NewtonResult(x, True, it, "handed over to Newton", norms, krylov)
         sigma = min(max(sigma * r_norm / r_prev, settings.smallest_shift), settings.largest_shift)
     return NewtonResult(x, False, settings.max_iterations,
-                        f"snap-through: residual {r_norm:.3e} after {settings.max_iterations} iterations", norms, krylov)
+                        f"residual {r_norm:.3e} after {settings.max_iterations} iterations", norms, krylov)
