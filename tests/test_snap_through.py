@@ -78,3 +78,33 @@ def test_a_slide_passes_a_step_that_fails_at_the_minimum_step(paper_config, monk
     slide = [r for r in snapping.records if r.phase == Phase.SLIDE]
     assert any(0.5 < r.ubar < 0.5 + 1e-3 for r in slide) and slide[-1].ubar == pytest.approx(1.0)
     assert plain.records[-1].ubar < 0.5
+
+
+def test_a_snap_from_a_peeling_contact_to_a_grown_one_is_its_coming_off():
+    """regrowth_check: a snapped-through step whose area grew by more than 20 % while the last two marks shrank is
+    the contact coming off (the numbers of the experiment's A0 = 0.10 mm^2); one that shrank on, or grew from a
+    contact that was not peeling, is not."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.slide_rules import Mark, regrowth_check
+
+    state = SimpleNamespace(marks=[Mark(Phase.SLIDE, 38.4755, 224.2, 7966.5, 6498.6, 21923.1),
+                                   Mark(Phase.SLIDE, 38.4855, 161.9, 1562.8, 5260.6, 9997.0)])
+    rule = regrowth_check(state)
+    assert "came off at ubar = 38.4855 (its area fell to 9997" in rule(SimpleNamespace(phase=Phase.SLIDE, area=118219.9))
+    assert rule(SimpleNamespace(phase=Phase.SLIDE, area=8000.0)) is None
+    assert rule(SimpleNamespace(phase=Phase.SLIDE, area=1.1 * 9997.0)) is None
+    state.marks = state.marks[::-1]  # growing before the snap: not peeling
+    assert rule(SimpleNamespace(phase=Phase.SLIDE, area=118219.9)) is None
+
+
+def test_a_snap_that_the_leg_calls_vanishing_ends_it_detached(paper_config, monkeypatch):
+    """With snap_through, a snapped-through step for which the leg's ``vanishes`` gives a reason ends the case
+    detached at the state before it, with that reason."""
+    import capslide.loadpath.slide_rules as rules
+
+    _failing_across(monkeypatch, 0.5, converged=False)
+    monkeypatch.setattr(rules, "regrowth_check", lambda state: (lambda rec: "the contact came off (forced)"))
+    res = run_case(_params(paper_config, "solver.snap_through=true"))
+    assert res.status == Status.DETACHED and "the contact came off (forced)" in res.reason
+    assert res.records[-1].ubar < 0.5

@@ -39,6 +39,7 @@ from ..fem.mesh import H0_AT_SIZE_1
 from ..model.constraints import FixedApexGap, FixedEdgeGap, FixedForce, FixedHeight, SlideAtForce, SlideOnSpring
 from ..model.system import CapModel, History
 from ..states import Phase, Status
+from . import slide_rules
 from .continuation import Converged, Leg, LegEnd, Loop, Notice, Returning, StepControl, continuation
 from .legs import LEGS, LegName, plan
 from .measures import StepRecord, fully_sliding
@@ -111,8 +112,7 @@ def initial_state(model: CapModel) -> PathState:
 
 def seconds_per_unit(model: CapModel) -> float:
     """The time (s) a unit change of a leg's load value takes: L0 / v (no time when quasi-static)."""
-    v = model.params.loading.velocity
-    return 0.0 if v is None else 1.0 / v
+    return 0.0 if model.params.loading.velocity is None else 1.0 / model.params.loading.velocity
 
 
 def approach_control(model: CapModel) -> StepControl:
@@ -305,8 +305,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     if state.loop is None:
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
         state.onset_ceiling = math.nan
-    min_area = _min_area(model)
-    detached = lambda rec: Status.DETACHED if rec.area < min_area else None  # noqa: E731
+    detached = lambda rec, least=_min_area(model): Status.DETACHED if rec.area < least else None  # noqa: E731, B008
     forward = name == LegName.SLIDE
     rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
@@ -323,8 +322,9 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     constraint = slide_constraint(model.params.loading, state.stage_h, state.preload_Fn)
     steps = continuation(model, state.loop, state.history,
                          Leg(constraint, end, control, Phase.SLIDE, name,
-                             ends=detached, step_limit=step_limit, rejects=rejects,
-                             seconds_per_unit=seconds_per_unit(model), stick_first=True, steady=steady))
+                             ends=detached, step_limit=step_limit, rejects=rejects, steady=steady,
+                             seconds_per_unit=seconds_per_unit(model), stick_first=True,
+                             vanishes=slide_rules.regrowth_check(state)))
     return (yield from _run(model, state, steps, after))
 
 

@@ -52,7 +52,9 @@ class Leg:
     """What a continuation runs: ``constraint_of(value)`` is the model constraint at load value ``value``, ``end``
     the value to reach under ``control``; records get ``phase``; reasons start with ``name``. ``ends(record)`` may
     end the leg after a step with a status; ``step_limit(value)`` may cap the next step; a converged step for whose
-    record ``rejects(record)`` gives a reason counts as a failed one (the step is cut back)."""
+    record ``rejects(record)`` gives a reason counts as a failed one (the step is cut back); a step that snapped
+    through (``solver.snap_through``) for whose record ``vanishes(record)`` gives a reason ends the leg detached at
+    the last state instead."""
 
     constraint_of: Callable[[float], object]
     end: float
@@ -66,6 +68,7 @@ class Leg:
     secant: bool = True  # predict from the last two converged states (False: start from the last one)
     stick_first: bool = False  # predict the leg's first step by a solve with every point in stick
     steady: Callable[[StepRecord, np.ndarray], bool] | None = None  # steady(record, state before the step)
+    vanishes: Callable[[StepRecord], str | None] | None = None
 
 
 @dataclass
@@ -293,8 +296,10 @@ def continuation(model: CapModel, loop: Loop, history: History,
                     res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
                 rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint,
                                                     time.perf_counter() - t0, dt, snapped=True)
+                gone = leg.vanishes(rec) if rec is not None and leg.vanishes is not None else None
                 outcome = Notice(f"{leg.name}: snapped through at {aim.target:.4g} ({res.iterations} iterations)") \
-                    if rec is not None else LegEnd(outcome.status, f"{outcome.reason}; snap-through: {reason}")
+                    if rec is not None and gone is None else LegEnd(Status.DETACHED, f"{leg.name}: {gone}") \
+                    if gone is not None else LegEnd(outcome.status, f"{outcome.reason}; snap-through: {reason}")
                 loop.step = max(loop.step, leg.control.minimum)
             if isinstance(outcome, LegEnd):
                 return outcome
