@@ -223,6 +223,18 @@ def _snapped_through(model: CapModel, loop: Loop, leg: Leg, history: History, ta
     return _after(transient, res), solved
 
 
+def _snap_outcome(leg: Leg, aim: _Aim, rec: StepRecord | None, res: NewtonResult, failed: LegEnd,
+                  reason: str) -> Notice | LegEnd:
+    """After a snap-through: a notice when it found a state the leg goes on from; the leg's end detached when the
+    leg says its contact vanished there (``leg.vanishes``); else the failed step's end, with the snap's reason."""
+    if rec is None:
+        return LegEnd(failed.status, f"{failed.reason}; snap-through: {reason}")
+    gone = leg.vanishes(rec) if leg.vanishes is not None else None
+    if gone is not None:
+        return LegEnd(Status.DETACHED, f"{leg.name}: {gone}")
+    return Notice(f"{leg.name}: snapped through at {aim.target:.4g} ({res.iterations} iterations)")
+
+
 def _judged(model: CapModel, loop: Loop, leg: Leg, res: NewtonResult, solved: History, aim: _Aim, constraint,
             wall: float, dt: float, snapped: bool = False) -> tuple[StepRecord | None, str, bool]:
     """The record of a converged step, or None with the reason it counts as failed (no convergence, the leg's
@@ -290,16 +302,12 @@ def continuation(model: CapModel, loop: Loop, history: History,
         if rec is None:
             outcome = _cut_back(loop, leg, aim.step, reason)
             if isinstance(outcome, LegEnd) and loop.step < leg.control.minimum and model.params.solver.snap_through:
-                # no equilibrium near the last: go by pseudo-transient continuation; a converged step that the leg
-                # rejected (a jump that persists at the minimum step) stands as it is
-                if not res.converged:
+                if not res.converged:  # no equilibrium near the last: pseudo-transient continuation
                     res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
+                # a converged step the leg rejected (a jump that persists at the minimum step) stands as it is
                 rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint,
                                                     time.perf_counter() - t0, dt, snapped=True)
-                gone = leg.vanishes(rec) if rec is not None and leg.vanishes is not None else None
-                outcome = Notice(f"{leg.name}: snapped through at {aim.target:.4g} ({res.iterations} iterations)") \
-                    if rec is not None and gone is None else LegEnd(Status.DETACHED, f"{leg.name}: {gone}") \
-                    if gone is not None else LegEnd(outcome.status, f"{outcome.reason}; snap-through: {reason}")
+                outcome = _snap_outcome(leg, aim, rec, res, outcome, reason)
                 loop.step = max(loop.step, leg.control.minimum)
             if isinstance(outcome, LegEnd):
                 return outcome
