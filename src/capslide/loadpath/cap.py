@@ -305,7 +305,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     if state.loop is None:
         state.loop = Loop.start(state.x, start, end, control, breakpoints)
         state.onset_ceiling = math.nan
-    detached = lambda rec, least=_min_area(model): Status.DETACHED if rec.area < least else None  # noqa: E731, B008
+    detached = lambda rec: Status.DETACHED if rec.area < _min_area(model) else None  # noqa: E731
     forward = name == LegName.SLIDE
     rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
