@@ -117,3 +117,34 @@ def test_sphere_cap_mesh_is_the_half_cap(h0):
     assert edges[in_band].min() >= 0.5 * h0
     assert mesh.nodes[:, 2].max() == pytest.approx(10.0)
     assert math.isclose(mesh.info["U"], 47.1 * mesh.info["phi1"])
+
+
+def test_a_contact_line_annulus_refines_its_rings_and_top_layer_alone():
+    """mesh.line_band: inside the annulus the surface cells are line_size wide radially, at most h0 along the
+    circumference, and the top layer as thin; away from it the rings widen; the plan still counts the mesh."""
+    plain = SphereCapSpec(R=47.1, H=10.0, h0=0.6, band_radius=9.0)
+    spec = SphereCapSpec(R=47.1, H=10.0, h0=0.6, band_radius=9.0, line_band=(5.0, 7.0), line_size=0.15)
+    mesh = sphere_cap_mesh(spec)
+    assert sphere_cap_counts(spec) == (mesh.n_cells, mesh.n_nodes)
+    corners = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)], dtype=float)
+    assert mesh.jacobians(corners).min() > 0.0
+    assert 2 * mesh.area() == pytest.approx(spherical_cap_volume(47.1, 10.0), rel=5e-3)
+    X = mesh.nodes
+    P = X[mesh.surface_segments]
+    r = np.linalg.norm(P[..., :2], axis=2)
+    radial = r.max(axis=1) - r.min(axis=1)  # a ring cell's radial width
+    mid = r.mean(axis=1)
+    in_line = (mid > 5.1) & (mid < 6.9) & (P[:, :, 1].min(axis=1) > 1.0)  # ring cells (off the O-grid's corners)
+    assert radial[in_line].max() <= 0.15 * 1.05
+    assert radial[(mid > 2.7) & (mid < 3.5)].min() > 0.2  # wider rings away from the annulus
+    theta = np.arctan2(P[..., 1], P[..., 0])
+    along = (theta.max(axis=1) - theta.min(axis=1)) * mid  # a ring cell's width along the circumference
+    assert along[in_line].max() <= 0.6  # at most h0
+    # the top layer under the annulus is as thin as its rings, thicker at the apex
+    top, second = X[mesh.cells[:, 4:]], X[mesh.cells[:, :4]]  # a cell's upper face (level k) and lower (level k + 1)
+    thickness = np.abs(top[..., 2] - second[..., 2]).mean(axis=1)
+    upper = np.isin(mesh.cells[:, 4:], np.unique(mesh.surface_segments)).all(axis=1)
+    cell_r = np.linalg.norm(top[..., :2], axis=2).mean(axis=1)
+    assert thickness[upper & (cell_r > 5.2) & (cell_r < 6.8)].max() <= 0.16
+    assert thickness[upper & (cell_r < 1.0)].min() > 0.4  # near h0 (at most H / layers) at the apex
+    assert mesh.info["layers"] > sphere_cap_mesh(plain).info["layers"]

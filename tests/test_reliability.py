@@ -321,10 +321,20 @@ def test_pull_off_of_a_completed_case_is_refused(tmp_path):
     ({"friction.model": "EA", "friction.DI_area": "reference"}, "friction.model = EA"),
     ({"friction.model": "none", "friction.threshold_at": "step_start"}, "friction.model = none"),
     ({"loading.dwell": 2.0}, "loading.velocity = None"),
+    ({"mesh.line_band": [5.0, 8.0]}, "mesh.element = Q1"),
 ])
 def test_inputs_that_fail_or_do_nothing_are_refused(paper_config, sets, words):
     with pytest.raises(ConfigError, match=words.replace("(", r"\(")):
         Parameters.from_config(validate(apply_settings(paper_config, sets)))
+
+
+@pytest.mark.parametrize("band, words", [([8.0, 7.0], "inner radius must be below"), ([6.0, 40.0], "contact band's radius")])
+def test_a_contact_line_annulus_off_the_band_is_refused(band, words):
+    from capslide.config import load_config, scene_path
+    from capslide.model.build import mesh_spec
+
+    with pytest.raises(ConfigError, match=words):
+        mesh_spec(Parameters.from_config(load_config([scene_path("sphere")], [f"mesh.line_band={band}"])))
 
 
 def test_a_spring_at_the_bound_is_accepted(paper_config):

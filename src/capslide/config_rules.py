@@ -55,10 +55,16 @@ def _check_three_d(config: Mapping) -> None:
         if config["mesh"]["max_layer_aspect"] is not None:
             raise ConfigError(f"mesh.max_layer_aspect = {config['mesh']['max_layer_aspect']!r} is not allowed with "
                               f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
+        if config["mesh"]["line_band"] is not None:
+            raise ConfigError(f"mesh.line_band = {config['mesh']['line_band']!r} is not allowed with "
+                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
         if not config["mesh"]["symmetry_plane"]:
             raise ConfigError(f"mesh.symmetry_plane = False is not allowed with mesh.element = "
                               f"{config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
         return
+    line = config["mesh"]["line_band"]
+    if line is not None and not line[0] < line[1]:
+        raise ConfigError(f"mesh.line_band = {line!r} is not allowed: its inner radius must be below its outer one")
     if config["material"]["model"] != "neo_hooke":
         raise ConfigError(f"material.model = {config['material']['model']!r} is not allowed with mesh.element = H1: "
                           "the 3D sphere's bulk is elastic in this version (use 'neo_hooke')")

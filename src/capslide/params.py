@@ -172,6 +172,8 @@ class MeshSpec:
     formulation: str = "displacement"  # or "mixed" (Q2/P1, fem.mixed)
     max_layer_aspect: float | None = None  # 3D: the thickest layer under the band / h0 (fem.hex_mesh)
     symmetry_plane: bool = True  # 3D: the half model (y >= 0) with its plane of symmetry, else the whole cap
+    line_band: tuple[float, float] | None = None  # 3D: reference radii (L0) of the annulus refined at the contact line
+    line_refinement: float = 4.0  # 3D: h0 / the ring width in that annulus
 
 
 @dataclass(frozen=True)
@@ -353,6 +355,8 @@ class Parameters:
                 max_size_over_H=float(msh["max_size_over_H"]), formulation=msh["formulation"],
                 max_layer_aspect=None if msh["max_layer_aspect"] is None else float(msh["max_layer_aspect"]),
                 symmetry_plane=bool(msh["symmetry_plane"]),
+                line_band=None if msh["line_band"] is None else (float(msh["line_band"][0]), float(msh["line_band"][1])),
+                line_refinement=float(msh["line_refinement"]),
             ),
             loading=loading,
             solver=SolverSpec(

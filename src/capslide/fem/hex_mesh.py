@@ -9,6 +9,12 @@ without its 3:1 transitions:
   rectangle [-c, c] x [0, c] of square cells of size h0, and rings around it whose radii grow geometrically with
   4 n cells each (n = c / h0), so that the ring cells stay square; the rings blend from the rectangle to circles
   (an O-grid, no cell degenerates on the axis);
+- inside the band, an optional annulus about the contact line (``line_band``, reference radii) takes rings
+  ``line_size`` wide, their width growing by ``LINE_GRADING`` times the distance outside it (never wider than
+  square): the cohesive zone at the contact's edge is narrow against the contact radius, and only its radial
+  extent needs the fine size (the contact stays near-circular); the top layer there is as thin as the rings, the
+  core shrinks to half the annulus's inner radius (rings are circles across the annulus) and its cells to what
+  keeps the ring cells at most h0 wide along the annulus's outer circumference;
 - outside the band the rings widen by ``ring_growth`` per ring (never narrower than square);
 - layers from the top down: in the band the first is h0 thick, each ``layer_growth`` times the one above, at
   most ``max_size_over_H`` H (and ``max_layer_aspect`` h0 if given): this plan sets the number of layers; every column
@@ -31,6 +37,8 @@ import numpy as np
 
 from .mesh import BandTooWide, CapMeshSpec, Mesh, arc_angles, coons_map
 
+LINE_GRADING = 0.3  # growth of the ring width per unit distance from the contact-line annulus (-)
+
 __all__ = ["SphereCapSpec", "sphere_cap_mesh", "sphere_cap_counts", "box_mesh", "half_disk", "mirrored_disk",
            "spherical_cap_volume"]
 
@@ -48,6 +56,16 @@ class SphereCapSpec:
     max_layer_aspect: float | None = None  # layers counted as if none under the band were thicker than this x h0
     max_size_over_H: float = 0.25  # largest layer thickness / H
     whole: bool = False  # the whole cap (no plane of symmetry) instead of the half y >= 0
+    line_band: tuple[float, float] | None = None  # reference radii (inner, outer) of the annulus refined radially
+    line_size: float | None = None  # ring width and top layer thickness in that annulus (L0)
+
+    def line(self) -> tuple[float, float, float] | None:
+        """The contact-line annulus as (inner, outer, size), or None."""
+        return None if self.line_band is None else (*self.line_band, self.line_size)
+
+    def finest_top(self) -> float:
+        """The thinnest top layer: h0, or line_size in the contact-line annulus."""
+        return self.h0 if self.line_size is None else min(self.h0, self.line_size)
 
     def meridian(self) -> CapMeshSpec:
         """The 2D cap whose meridional map this mesh turns about the axis."""
@@ -60,12 +78,20 @@ def spherical_cap_volume(R: float, H: float) -> float:
     return math.pi * H**2 * (3 * R - H) / 3
 
 
-def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np.ndarray]:
+def _ring_plan(U: float, h0: float, band: float, growth: float, line=None) -> tuple[int, np.ndarray]:
     """n (core cells per half width) and the ring radii (the core's "radius" c first, U last): steps of gamma rho
-    (square ring cells) inside the band, then steps growing by ``growth`` per ring, never below gamma rho."""
-    c = band / 1.5  # ring cells are h0 * pi / 4 wide at c and reach h0 at 4 c / pi: <= 1.2 h0 inside the band
-    n = max(2, math.ceil(c / h0))
-    c = n * h0
+    (square ring cells) inside the band, or narrower in the contact-line annulus ``line`` = (inner, outer, size),
+    then steps growing by ``growth`` per ring, never below gamma rho.
+
+    With an annulus the core shrinks to half its inner radius, so that the rings are circles across it, and n is
+    large enough for ring cells at most h0 wide along the circumference at its outer radius."""
+    if line is None:
+        c = band / 1.5  # ring cells are h0 * pi / 4 wide at c and reach h0 at 4 c / pi: <= 1.2 h0 inside the band
+        n = max(2, math.ceil(c / h0))
+        c = n * h0
+    else:
+        c = min(band / 1.5, line[0] / 2.0)
+        n = max(2, math.ceil(c / h0), math.ceil(math.pi * line[1] / (4.0 * h0)))
     if 1.5 * c >= U:
         raise BandTooWide(f"contact band radius {band:g} L0 leaves no room for the rings around it on the cap top "
                           f"(at most about {U:.3g} L0)")
@@ -73,7 +99,10 @@ def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np
     radii, step = [c], 0.0
     while radii[-1] < U:
         rho = radii[-1]
-        step = gamma * rho if rho < band else max(gamma * rho, growth * step)
+        if rho < band:
+            step = gamma * rho if line is None else min(gamma * rho, float(_line_width(rho, *line)))
+        else:
+            step = max(gamma * rho, growth * step)
         radii.append(rho + step)
     if len(radii) > 2 and U - radii[-2] < 0.5 * step:  # no sliver: the last ring moves out to U
         radii.pop()
@@ -81,10 +110,16 @@ def _ring_plan(U: float, h0: float, band: float, growth: float) -> tuple[int, np
     return n, np.array(radii)
 
 
-def half_disk(U: float, h0: float, band: float, growth: float = 1.15) -> tuple[np.ndarray, np.ndarray]:
+def _line_width(rho, inner: float, outer: float, size: float):
+    """The ring width (L0) the contact-line annulus asks for at reference radius rho: ``size`` inside it, growing
+    by LINE_GRADING times the distance outside it."""
+    return size + LINE_GRADING * (np.maximum(inner - rho, 0.0) + np.maximum(rho - outer, 0.0))
+
+
+def half_disk(U: float, h0: float, band: float, growth: float = 1.15, line=None) -> tuple[np.ndarray, np.ndarray]:
     """Quadrilateral mesh of the half disk {|P| <= U, P_y >= 0}: points (m, 2) and cells (k, 4), counter-clockwise
-    (:func:`_ring_plan` for the rings)."""
-    n, radii = _ring_plan(U, h0, band, growth)
+    (:func:`_ring_plan` for the rings; with a contact-line annulus they are circles from its inner radius on)."""
+    n, radii = _ring_plan(U, h0, band, growth, line)
     c = radii[0]
     xs = np.linspace(-c, c, 2 * n + 1)
     ys = np.linspace(0.0, c, n + 1)
@@ -100,7 +135,7 @@ def half_disk(U: float, h0: float, band: float, growth: float = 1.15) -> tuple[n
     circle = np.column_stack([np.cos(theta), np.sin(theta)])
     circle[[0, -1]] = [[1.0, 0.0], [-1.0, 0.0]]  # on y = 0 exactly: sin(pi) = 1.2e-16 put points off the plane
     previous, start = chain, len(points[0])
-    blend = min(1.0, math.log(U / c))
+    blend = min(1.0, math.log(U / c)) if line is None else math.log(line[0] / c)
     for rho in radii[1:]:
         beta = min(1.0, math.log(rho / c) / blend)  # rectangle to circle over a factor e in radius (or up to U)
         points.append(rho * ((1.0 - beta) * square + beta * circle))
@@ -154,12 +189,12 @@ def _depths(top: np.ndarray, H: float, layers: int) -> np.ndarray:
 def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
     """Cells and nodes of :func:`sphere_cap_mesh` for ``spec``, from the plan alone."""
     _, phi1 = arc_angles(spec.meridian())
-    n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth)
+    n, radii = _ring_plan(spec.R * phi1, spec.h0, spec.band_radius, spec.ring_growth, spec.line())
     quads = 2 * n * n + 4 * n * (len(radii) - 1)
     points = (2 * n + 1) * (n + 1) + (4 * n + 1) * (len(radii) - 1)
     if spec.whole:  # the mirror image of the half disk, sharing the points on y = 0
         quads, points = 2 * quads, 2 * points - (2 * n + 1) - 2 * (len(radii) - 1)
-    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
+    layers = _layer_count(spec.H, spec.finest_top(), spec.layer_growth, _max_thickness(spec))
     return quads * layers, points * (layers + 1)
 
 
@@ -181,15 +216,17 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     meridian = spec.meridian()
     phi0, phi1 = arc_angles(meridian)
     U = spec.R * phi1
-    disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth)
+    disk, quads = half_disk(U, spec.h0, spec.band_radius, spec.ring_growth, spec.line())
     if spec.whole:
         disk, quads = mirrored_disk(disk, quads)
-    layers = _layer_count(spec.H, spec.h0, spec.layer_growth, _max_thickness(spec))
+    layers = _layer_count(spec.H, spec.finest_top(), spec.layer_growth, _max_thickness(spec))
     s = np.linalg.norm(disk, axis=1)
     # the top layer: h0 in the band, beyond it as thick as the rings are wide there (near-cubic surface cells)
-    _, radii = _ring_plan(U, spec.h0, spec.band_radius, spec.ring_growth)
+    _, radii = _ring_plan(U, spec.h0, spec.band_radius, spec.ring_growth, spec.line())
     widths = np.diff(radii)
     top = np.maximum(spec.h0, np.interp(s, radii[:-1], widths, left=spec.h0) * (s > spec.band_radius))
+    if spec.line_band is not None:  # as thin as the rings about the contact line
+        top = np.where(s <= spec.band_radius, np.minimum(top, _line_width(s, *spec.line())), top)
     v = (spec.H - _depths(top, spec.H, layers)).ravel()  # level k of point i at k * m + i
     m = len(disk)
     rz = coons_map(np.column_stack([np.tile(s, layers + 1), v]), meridian, U, phi0, phi1)
@@ -200,6 +237,8 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     base = np.arange(layers * m, (layers + 1) * m)
     symmetry = np.flatnonzero(np.tile(disk[:, 1], layers + 1) == 0.0) if not spec.whole else np.zeros(0, dtype=np.int64)
     info = {"h0": spec.h0, "band_radius": spec.band_radius, "U": U, "phi0": phi0, "phi1": phi1, "layers": layers}
+    if spec.line_band is not None:
+        info |= {"line_band": spec.line_band, "line_size": spec.line_size}
     return Mesh("H1", nodes, cells, base, quads.copy(), info, symmetry=symmetry)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from ..config import ConfigError
 from ..fem.assembly import rigid_body_modes
 from ..fem.hex_mesh import SphereCapSpec, sphere_cap_mesh
 from ..fem.mesh import H0_AT_SIZE_1, CapMeshSpec, Mesh, cap_mesh
@@ -44,8 +45,13 @@ def sphere_cap_spec(params: Parameters) -> SphereCapSpec:
         scale = (math.pi * W * R**2 / K) ** (1.0 / 3.0)  # a = A scale (Johnson and Greenwood's A)
         P = max(1.0, -params.loading.preload / (math.pi * W * R))  # P = F / (pi W R), compressive
         band = 1.3 * scale * float(sphere.jkr_radius(P))
-    return SphereCapSpec(R=g.R, H=g.H, h0=H0_AT_SIZE_1 * m.size, band_radius=band, max_size_over_H=m.max_size_over_H,
-                         max_layer_aspect=m.max_layer_aspect, whole=not m.symmetry_plane)
+    h0 = H0_AT_SIZE_1 * m.size
+    if m.line_band is not None and m.line_band[1] > band:
+        raise ConfigError(f"mesh.line_band = {list(m.line_band)!r} is not allowed here: its outer radius passes the "
+                          f"contact band's radius {band:.4g} L0 (mesh.band_half_width)")
+    return SphereCapSpec(R=g.R, H=g.H, h0=h0, band_radius=band, max_size_over_H=m.max_size_over_H,
+                         max_layer_aspect=m.max_layer_aspect, whole=not m.symmetry_plane, line_band=m.line_band,
+                         line_size=None if m.line_band is None else h0 / m.line_refinement)
 
 
 def mesh_spec(params: Parameters) -> CapMeshSpec | SphereCapSpec:
