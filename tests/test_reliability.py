@@ -305,6 +305,19 @@ def test_a_hertz_sweep_at_zero_load_is_refused(tmp_path):
     assert not (tmp_path / "h.csv").exists()
 
 
+def test_a_damaged_sweep_checkpoint_starts_afresh_and_goes_with_the_table(tmp_path):
+    """capslide verify --resume with an unreadable checkpoint beside the table: one line saying why, the sweep
+    afresh, and no checkpoint left once the table is written."""
+    out = tmp_path / "h.csv"
+    checkpoint = tmp_path / ".h.csv.checkpoint.npz"
+    checkpoint.write_bytes(b"not a checkpoint")
+    res = capslide("verify", PAPER_CONFIG.parent / "scenes" / "hertz.yaml", "--scene", "hertz", "--set", "mesh.size=40",
+                   "--set", "verification.loads=[0.3]", "-q", "--resume", "-o", out)
+    assert res.returncode == 0, res.stderr
+    assert "cannot read sweep checkpoint" in res.stderr and "starting afresh" in res.stderr
+    assert out.exists() and not checkpoint.exists()
+
+
 def test_pull_off_of_a_completed_case_is_refused(tmp_path):
     case = tmp_path / "c.nc"
     assert capslide("run", PAPER_CONFIG, *SETS, "--set", "loading.ubar_max=0", "-q", "-o", case).returncode == 0

@@ -117,6 +117,37 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     assert -F_max == pytest.approx(P_c, rel=0.05)
 
 
+def test_an_edge_controlled_sweep_resumes_from_its_checkpoint_bit_for_bit(tmp_path):
+    """capslide verify --resume: a sweep stopped after its approach and first load, continued from the checkpoint
+    file, gives the uninterrupted table exactly; a checkpoint of another configuration is refused."""
+    from capslide.io.checkpoint import CheckpointError, config_text
+    from capslide.io.sweep_checkpoint import load_sweep, save_sweep
+
+    p = _stiff_scene([0.0, -0.2])
+    text, path = config_text(p.config), tmp_path / ".t.csv.checkpoint.npz"
+    whole = sweep(p, "jkr")
+
+    class Stop(Exception):
+        pass
+
+    saves = []
+
+    def save_then_stop(saved):
+        save_sweep(path, text, saved)
+        saves.append(saved)
+        if len(saves) == 2:  # the approach, then the first load (-0.2)
+            raise Stop
+
+    with pytest.raises(Stop):
+        sweep(p, "jkr", save=save_then_stop)
+    saved = load_sweep(path, text)
+    assert list(saved.done) == [-0.2]
+    resumed = sweep(p, "jkr", saved=saved)
+    assert [(r.quantity, r.load, r.fe, r.theory) for r in resumed] == [(r.quantity, r.load, r.fe, r.theory) for r in whole]
+    with pytest.raises(CheckpointError, match="another configuration"):
+        load_sweep(path, config_text(_stiff_scene([0.0]).config))
+
+
 def test_hertz_scene_on_a_coarse_mesh():
     """The Hertz scene (Q2) at one load on a mesh 2x coarser than the scene's, against sqrt(4 P R / (pi E*)) and
     the Hertz ellipse. The issue asks for 2 % (half-width) and 5 % (pressure, L2 of p0); this mesh gives 0.04 % and

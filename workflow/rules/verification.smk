@@ -83,4 +83,4 @@ rule verify_scene_3d:
         mem_mb=6000,
         runtime=180,
     shell:
-        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q -o {{output}} > {{log}} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q --resume -o {{output}} > {{log}} 2>&1"

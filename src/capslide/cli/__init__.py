@@ -86,6 +86,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "kind of scene (hertz = contact.repulsion_only)")
     p.add_argument("-o", "--output", required=True, metavar="TABLE.csv", help="the table of FE against closed forms")
     p.add_argument("-q", "--quiet", action="store_true")
+    p.add_argument("--resume", action="store_true", help="continue an edge-controlled sweep from the checkpoint a "
+                   "killed run left beside TABLE.csv (saved after the approach and after each load)")
     p.set_defaults(func=cmd_verify)
 
     p = sub.add_parser("collect", help="collect case files into one dataset: the model x preload x step cube")

@@ -52,14 +52,22 @@ def cmd_verify(args) -> int:
         from ..studies.verification_3d import sphere_sweep as sweep
 
         scene = args.scene or Path(config_sources(args)[-1]).stem
+    checkpoint, saved, save = _sweep_checkpoint(args, params, output)
     try:
-        rows = sweep(params, scene, progress=progress)
+        rows = sweep(params, scene, progress=progress, saved=saved, save=save)
     except VerificationFailed as err:
+        checkpoint.unlink(missing_ok=True)
         print(f"capslide: verification of scene {scene} stopped: {err}; no table written", file=sys.stderr)
         return EXIT_STATUS[Status.DIVERGED]
+    except KeyboardInterrupt:
+        if checkpoint.exists():
+            print(f"capslide: the checkpoint '{checkpoint}' is kept; the same command with --resume continues from it",
+                  file=sys.stderr)
+        raise
     if progress is not None:
         progress.close()
     write_text_atomic(output, csv_text(table_rows(rows), TABLE_COLUMNS))
+    checkpoint.unlink(missing_ok=True)
     lam = rows[0].extra.get("maugis_lambda")
     if lam is not None and "jkr_valid" not in rows[0].extra:
         print(f"Maugis parameter lambda = {lam}: compared with the Maugis-Dugdale sphere (JKR in the extra column)")
@@ -73,6 +81,23 @@ def cmd_verify(args) -> int:
         print(f"{mark}{r.scene:6s} {r.quantity:20s} P={r.load:+.4f} fe={r.fe:.6g} theory={r.theory:.6g} "
               f"rel={r.rel_error:+.4f}")
     return 0
+
+
+def _sweep_checkpoint(args, params, output: Path):
+    """The sweep's checkpoint path beside ``output``, the saved sweep ``--resume`` continues (None: afresh; one line
+    says why a checkpoint cannot be used) and the callable that saves one."""
+    from ..io.checkpoint import CheckpointError, config_text
+    from ..io.sweep_checkpoint import load_sweep, save_sweep, sweep_checkpoint_path
+
+    path, text, saved = sweep_checkpoint_path(output), config_text(params.config), None
+    if args.resume and path.exists():
+        try:
+            saved = load_sweep(path, text)
+            print(f"capslide: resuming from {path} ({len(saved.records)} converged steps, {len(saved.done)} loads done)",
+                  file=sys.stderr)
+        except CheckpointError as err:
+            print(f"capslide: {err}; starting afresh", file=sys.stderr)
+    return path, saved, lambda s: save_sweep(path, text, s)
 
 
 def cmd_stability(args) -> int:

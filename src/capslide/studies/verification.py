@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..io.reading import ResultFileError
+from ..io.sweep_checkpoint import SavedSweep
 from ..laws import analytic, contact, sphere
 from ..loadpath.cap import load_path, spread_constraint, spread_control
 from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
@@ -90,8 +91,9 @@ def reference_half_width(model: CapModel, rec: StepRecord, values: np.ndarray) -
     return 0.5 * interval_measures(model.contact.quad.X.reshape(-1, 2), values)[0]
 
 
-def sweep(params: Parameters, scene: str | None = None, progress=None) -> list[VerificationRow]:
-    """Run the scene's load sweep and compare with the closed forms (``scene`` defaults to :func:`scene_of`)."""
+def sweep(params: Parameters, scene: str | None = None, progress=None, saved=None, save=None) -> list[VerificationRow]:
+    """Run the scene's load sweep and compare with the closed forms (``scene`` defaults to :func:`scene_of`);
+    ``saved`` and ``save``: the edge-controlled sweep's checkpoints (:func:`edge_controlled_sweep`)."""
     scene = scene or scene_of(params)
     cost.check(params, cap_mesh_spec(params))
     model = build_model(params)
@@ -102,7 +104,7 @@ def sweep(params: Parameters, scene: str | None = None, progress=None) -> list[V
     loads = sorted(params.verification.loads, reverse=True)
     records: list[StepRecord] = []
     if adhesive and L.approach_edge_step > 0.0:
-        states, F_max, how = edge_controlled_sweep(model, loads, records, progress)
+        states, F_max, how = edge_controlled_sweep(model, loads, records, progress, saved, save)
     else:
         states, F_max, how = force_controlled_sweep(model, loads, records, progress, adhesive)
     P_c = analytic.jkr_cylinder_pull_off(g.R, E_star, w) if adhesive else math.nan
@@ -195,26 +197,40 @@ def force_controlled_sweep(model: CapModel, loads: list[float], records: list[St
     return states, max(r.Fn for r in records), leg.status.label
 
 
-def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord],
-                          progress) -> tuple[dict[float, StepRecord], float, str]:
+def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[StepRecord], progress,
+                          saved: SavedSweep | None = None, save=None) -> tuple[dict[float, StepRecord], float, str]:
     """Apex approach, then one edge-controlled path (the ``spread`` leg of :mod:`capslide.loadpath.cap`) from first
     contact through the pull-off point to the largest compressive load; it stops on the stable branch (past the
     largest tensile force) just beyond each load in turn, where :func:`_equilibrium_at_load` finds the equilibrium
     at exactly that load between the two bracketing steps. The largest tensile force along the path is the FE
-    pull-off (under force control there is no equilibrium beyond it)."""
+    pull-off (under force control there is no equilibrium beyond it).
+
+    Each load's leg starts from a fresh factorization. ``save`` (a callable of a :class:`SavedSweep`) is called
+    after the approach and after each load; ``saved`` continues such a save: the same arithmetic as the
+    uninterrupted sweep."""
     observe = Recording(records, progress)
-    end = drain(load_path(model, stop_before="spread"), observe)
-    if end.status != Status.COMPLETED:
-        raise VerificationFailed(end.reason)
-    first = len(records)
+    if saved is None:
+        end = drain(load_path(model, stop_before="spread"), observe)
+        if end.status != Status.COMPLETED:
+            raise VerificationFailed(end.reason)
+        saved = SavedSweep(end.x, 0.0, list(records), {}, len(records))
+        if save:
+            save(saved)
+    records[:] = saved.records
+    first = saved.first
     constraint_of, X_end = spread_constraint(model)
     control = spread_control(model)
 
     def path_forces() -> list[float]:
         return [r.Fn for r in records[first:] if r.phase == Phase.SPREAD]
 
-    x, X, states = end.x, 0.0, {}
+    x, X = saved.x, saved.X
+    done = dict(saved.done)
+    states = {P: records[i] for P, i in done.items()}
     for P in sorted(loads):  # most tensile first
+        if P in done:
+            continue
+        model.solver.invalidate()
         until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
         loop = Loop.start(x, X, X_end, control)
         leg = drain(continuation(model, loop, History(), Leg(constraint_of, X_end, control, Phase.SPREAD, "approach",
@@ -226,7 +242,10 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
         edge = [r for r in records[first:] if r.phase == Phase.SPREAD]
         bracket = ((loop.value_prev, -edge[-2].Fn, loop.x_prev), (loop.value, -edge[-1].Fn, loop.x))
         states[P] = _equilibrium_at_load(model, bracket, P, records, progress)
+        done[P] = len(records) - 1  # its record, the last one
         x, X = loop.x, loop.value
+        if save:
+            save(SavedSweep(x, X, list(records), dict(done), first))
     return states, max(path_forces()), "largest tensile force along the edge-controlled path"
 
 

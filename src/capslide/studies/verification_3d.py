@@ -44,8 +44,9 @@ from .verification import (
 __all__ = ["sphere_sweep"]
 
 
-def sphere_sweep(params: Parameters, scene: str, progress=None) -> list[VerificationRow]:
-    """The verification rows of a 3D scene (Hertz, or the adhesive sphere against Maugis-Dugdale)."""
+def sphere_sweep(params: Parameters, scene: str, progress=None, saved=None, save=None) -> list[VerificationRow]:
+    """The verification rows of a 3D scene (Hertz, or the adhesive sphere against Maugis-Dugdale); ``saved`` and
+    ``save``: the edge-controlled sweep's checkpoints."""
     cost.check(params, mesh_spec(params))
     model = build_model(params)
     a, R = params.adhesion, params.geometry.R
@@ -56,7 +57,7 @@ def sphere_sweep(params: Parameters, scene: str, progress=None) -> list[Verifica
     if not adhesive:
         states, F_max, how = _hertz_sweep(model, loads, records, progress)
     elif params.loading.approach_edge_step > 0.0:
-        states, F_max, how = edge_controlled_sweep(model, loads, records, progress)
+        states, F_max, how = edge_controlled_sweep(model, loads, records, progress, saved, save)
     else:
         states, F_max, how = force_controlled_sweep(model, loads, records, progress, adhesive)
     rows: list[VerificationRow] = []
