@@ -137,7 +137,7 @@ def half_disk(U: float, h0: float, band: float, growth: float = 1.15, line=None)
     previous, start = chain, len(points[0])
     blend = min(1.0, math.log(U / c)) if line is None else math.log(line[0] / c)
     for rho in radii[1:]:
-        beta = min(1.0, math.log(rho / c) / blend)  # rectangle to circle over a factor e in radius (or up to U)
+        beta = min(1.0, math.log(rho / c) / blend)  # rectangle to circle over a factor e (or to U, or to the annulus)
         points.append(rho * ((1.0 - beta) * square + beta * circle))
         ring = start + np.arange(4 * n + 1)
         cells.append(np.column_stack([previous[1:], previous[:-1], ring[:-1], ring[1:]]))
