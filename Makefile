@@ -3,6 +3,7 @@
 #   make test        set up .venv and run the default test suite
 #   make convergence set up .venv and run the speed-against-error study (results/paper/studies/convergence/)
 #   make experiment3d set up .venv with MKL and run the experiment in numbers (results/paper/experiment3d/)
+#   make verification3d set up .venv with MKL and run the 3D sphere against Hertz and Maugis-Dugdale (hours)
 #   make test-slurm  the smoke workflow through a local single-node SLURM (root)
 PYTHON ?= python3
 VENV   := .venv
@@ -14,7 +15,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: setup setup-pardiso reproduce convergence experiment3d test test-all test-slurm lock clean
+.PHONY: setup setup-pardiso reproduce convergence experiment3d verification3d test test-all test-slurm lock clean
 
 setup: $(VENV)/.installed
 
@@ -37,6 +38,10 @@ convergence: setup
 # The experiment scene solves with PARDISO's factors (docs/experiment3d.md), so this target sets MKL up first.
 experiment3d: setup-pardiso
 	$(BIN)/snakemake --cores $(CORES) experiment3d
+
+# sphere_md3 solves with PARDISO's factors too (docs/three_d.md).
+verification3d: setup-pardiso
+	$(BIN)/snakemake --cores $(CORES) verification3d
 
 test: setup
 	$(BIN)/ruff check src tests benchmarks

@@ -80,7 +80,7 @@ rule verify_scene_3d:
         ENV
     threads: 1
     resources:
-        mem_mb=6000,
+        mem_mb=9000,  # sphere_md3: 7.8 GB peak (docs/three_d.md)
         runtime=180,
     shell:
         f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q --resume -o {{output}} > {{log}} 2>&1"

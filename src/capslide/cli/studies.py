@@ -70,7 +70,8 @@ def cmd_verify(args) -> int:
     checkpoint.unlink(missing_ok=True)
     lam = rows[0].extra.get("maugis_lambda")
     if lam is not None and "jkr_valid" not in rows[0].extra:
-        print(f"Maugis parameter lambda = {lam}: compared with the Maugis-Dugdale sphere (JKR in the extra column)")
+        print(f"Maugis parameter lambda = {lam}: compared with the Maugis-Dugdale sphere (JKR in the extra column), "
+              "and in the rows *_same_law with the scene's law on a half-space")
     elif lam is not None:
         valid = rows[0].extra["jkr_valid"] == "yes"
         print(f"Maugis parameter lambda = {lam}: the JKR closed form is "
