@@ -109,5 +109,6 @@ def test_the_3d_verification_rows_compare_with_the_same_law():
     assert rows[1].rel_error == pytest.approx((-4.0 - ref.load_at(9.9)) / abs(ref.P_c), rel=1e-12)
     assert rows[2].fe == -6.60 and rows[2].theory == pytest.approx(ref.P_c, rel=1e-12)
     assert -6.60 < ref.P_c < -6.55  # 2.2 % beyond Maugis-Dugdale's -6.433 at lambda = 3 (docs/three_d.md)
+    assert math.isnan(_same_law_rows(p, "x", {1.0: 0.05, 0.0: 11.0}, 6.5)[0].theory)  # below the path's start
     stiff = Parameters.from_config(load_config([scene_path("sphere_md3")], ["adhesion.maugis_lambda=20"]))
     assert _same_law_rows(stiff, "x", {0.0: 11.0}, 6.5) == []

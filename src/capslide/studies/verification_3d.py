@@ -96,12 +96,13 @@ def sphere_sweep(params: Parameters, scene: str, progress=None, saved=None, save
 
 def _same_law_rows(params: Parameters, scene: str, radii: dict[float, float], F_max: float) -> list[VerificationRow]:
     """The loads at the FE radii ``radii`` ({P: a}) and the pull-off against the same law on a half-space (none
-    when its rings would be too many)."""
+    when its rings would be too many; nan at a radius below the reference path's first)."""
     reference = same_law_reference(params, 1.02 * max(radii.values()))
     if reference is None:
         return []
     extra = {"relative_to": abs(reference.P_c)}
-    rows = [VerificationRow(scene, "load_at_radius_same_law", P, P, reference.load_at(a), {**extra, "radius": a})
+    rows = [VerificationRow(scene, "load_at_radius_same_law", P, P,
+                            reference.load_at(a) if a >= reference.radii[0] else math.nan, {**extra, "radius": a})
             for P, a in radii.items()]
     return rows + [VerificationRow(scene, "pull_off_same_law", math.nan, -F_max, reference.P_c,
                                    {"radius": round(reference.a_c, 4)})]
