@@ -9,6 +9,7 @@ import pytest
 
 from capslide.config import load_config, scene_path
 from capslide.params import Parameters, cgcm_constants
+from capslide.studies import halfspace_sphere
 from capslide.studies.halfspace_sphere import (
     SphereOnHalfSpace,
     cgcm_traction,
@@ -77,18 +78,12 @@ def test_a_stiff_sphere_pulls_off_at_bradleys_force():
     assert a_c == pytest.approx(math.sqrt(2.0 * R * (c["g_max"] - c["g_eq"])), rel=1e-2)
 
 
-def test_the_reference_of_sphere_md3_is_converged_in_its_rings():
+def test_the_reference_of_sphere_md3_is_converged_in_its_rings(monkeypatch):
     """Halving the ring width moves the pull-off by less than 1e-5 and P(a) by less than 0.1 % of |P_c|."""
     p = Parameters.from_config(load_config([scene_path("sphere_md3")]))
-    import capslide.studies.halfspace_sphere as hs
-
     ref = same_law_reference(p, 10.0)
-    fine = hs.RINGS_PER_ZONE
-    try:
-        hs.RINGS_PER_ZONE = 2 * fine
-        finer = same_law_reference(p, 10.0)
-    finally:
-        hs.RINGS_PER_ZONE = fine
+    monkeypatch.setattr(halfspace_sphere, "RINGS_PER_ZONE", 2 * halfspace_sphere.RINGS_PER_ZONE)
+    finer = same_law_reference(p, 10.0)
     assert ref.P_c == pytest.approx(finer.P_c, rel=1e-5)
     for a in (1.0, 4.0, 7.0, 9.5):
         assert abs(ref.load_at(a) - finer.load_at(a)) < 1e-3 * abs(ref.P_c)
