@@ -71,6 +71,8 @@ def law_table(scene: str, overrides: list[str]) -> None:
 def log_table(scene: str, log: str) -> None:
     params = Parameters.from_config(load_config([scene_path(scene)]))
     lam, md_load, P_c = md(params)
+    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+    md_scale = sphere.md_scales(params.geometry.R, E_star, params.adhesion.W_adh)
     points = []
     for line in open(log):
         m = LINE.match(line)
@@ -86,6 +88,18 @@ def log_table(scene: str, log: str) -> None:
         same, ref_md = ref.load_at(a), md_load(a)
         print(f"| {kind} | {a:.3f} | {P:+.4f} | {(P - same) / abs(P_c):+.2%} | {(same - ref_md) / abs(P_c):+.2%} "
               f"| {(P - ref_md) / abs(P_c):+.2%} |")
+    print("\nthe sweep's loads (force-controlled equilibria):")
+    print("| P (E L0^2) | a, FE (L0) | a, the law | a against the law's | a, MD | a against MD | P - P_law(a), of the "
+          "law's \\|P_c\\| | P - P_MD(a), of MD's \\|P_c\\| |")
+    print("|---" * 8 + "|")
+    for kind, a, P in points:
+        if kind != "preload":
+            continue
+        a_law = brentq(lambda r, P=P: ref.load_at(r) - P, ref.a_c, ref.radii[-1])
+        a_md = sphere.md_radius(P / md_scale["load"], lam) * md_scale["radius"]
+        print(f"| {P:+.1f} | {a:.3f} | {a_law:.3f} | {100 * (a / a_law - 1):+.2f} % | {a_md:.3f} "
+              f"| {100 * (a / a_md - 1):+.2f} % | {100 * (P - ref.load_at(a)) / abs(ref.P_c):+.2f} % "
+              f"| {100 * (P - md_load(a)) / abs(P_c):+.2f} % |")
     P_fe = min(P for kind, _, P in points if kind == "spread")
     print(f"pull-off along the path: FE {P_fe:.4f}, same law {ref.P_c:.4f} ({(P_fe - ref.P_c) / abs(ref.P_c):+.2%}), "
           f"Maugis-Dugdale {P_c:.4f} ({(P_fe - P_c) / abs(P_c):+.2%})")
