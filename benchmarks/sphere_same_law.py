@@ -30,13 +30,13 @@ LINE = re.compile(r"(spread|preload)\s+ubar=.*Fn=([+-][\d.]+).*area=\s*([\d.]+)"
 
 
 def md(params: Parameters):
-    """(lambda, the Maugis-Dugdale load at radius a, P_c) of a configuration."""
+    """(lambda, the Maugis-Dugdale load at radius a, P_c, the scales of sphere.md_scales) of a configuration."""
     a, R = params.adhesion, params.geometry.R
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     lam = sphere.maugis_parameter_sphere(R, E_star, a.W_adh, a.T_max)
     scales = sphere.md_scales(R, E_star, a.W_adh)
     P_c = sphere.md_pull_off(lam)[0] * scales["load"]
-    return lam, lambda r: float(sphere.md_load(r / scales["radius"], lam)) * scales["load"], P_c
+    return lam, lambda r: float(sphere.md_load(r / scales["radius"], lam)) * scales["load"], P_c, scales
 
 
 def zero_load_radius(ref) -> float:
@@ -47,9 +47,8 @@ def zero_load_radius(ref) -> float:
 
 def law_table(scene: str, overrides: list[str]) -> None:
     params = Parameters.from_config(load_config([scene_path(scene)], overrides))
-    lam, md_load, P_c = md(params)
-    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
-    scale = sphere.md_scales(params.geometry.R, E_star, params.adhesion.W_adh)["radius"]
+    lam, md_load, P_c, md_scale = md(params)
+    scale = md_scale["radius"]
     a0_md, a0_jkr = sphere.md_zero_load_radius(lam) * scale, 6.0 ** (1.0 / 3.0) * scale
     wide = Parameters.from_config(load_config([scene_path(scene)], [*overrides, "mesh.band_half_width=40"]))
     refs = {"sphere, band": same_law_reference(params, max(RADII) + 0.5),
@@ -70,9 +69,7 @@ def law_table(scene: str, overrides: list[str]) -> None:
 
 def log_table(scene: str, log: str) -> None:
     params = Parameters.from_config(load_config([scene_path(scene)]))
-    lam, md_load, P_c = md(params)
-    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
-    md_scale = sphere.md_scales(params.geometry.R, E_star, params.adhesion.W_adh)
+    lam, md_load, P_c, md_scale = md(params)
     points = []
     for line in open(log):
         m = LINE.match(line)
