@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -185,11 +186,15 @@ class SameLawReference:
     P_c: float
     a_c: float
 
+    @cached_property
+    def _spline(self) -> CubicSpline:
+        return CubicSpline(self.radii, self.loads)
+
     def load_at(self, a: float) -> float:
-        """The load at contact radius ``a`` (cubic spline through the path)."""
+        """The load at contact radius ``a`` (cubic spline through the path, built once)."""
         if not self.radii[0] <= a <= self.radii[-1]:
             raise ValueError(f"radius {a:g} is outside the reference path [{self.radii[0]:g}, {self.radii[-1]:g}]")
-        return float(CubicSpline(self.radii, self.loads)(a))
+        return float(self._spline(a))
 
 
 def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere") -> SameLawReference | None:
