@@ -37,11 +37,12 @@ from capslide.solvers.linsolve import make_solver
 from capslide.solvers.newton import NewtonOptions
 
 
-def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "displacement") -> None:
+def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "displacement", element: str = "H1",
+        gauss: int = 2) -> None:
     p = Parameters.from_config(load_config(["hertz"], overrides=[
-        "mesh.surface_gauss_points=2", f"material.nu={nu}", f"mesh.formulation={formulation}",
-        "limits.refuse_locking=false"]))
-    mesh = sphere_cap_mesh(SphereCapSpec(R=100.0, H=50.0, h0=h0, band_radius=6.0))
+        f"mesh.surface_gauss_points={gauss}", f"material.nu={nu}", f"mesh.formulation={formulation}",
+        f"mesh.element={element}", "limits.refuse_locking=false"]))
+    mesh = sphere_cap_mesh(SphereCapSpec(R=100.0, H=50.0, h0=h0, band_radius=6.0, order=2 if element == "H2" else 1))
     model = CapModel(mesh, p, make_solver("amg", near_null_space=rigid_body_modes(mesh.nodes)))
     E_star = 1.0 / (1.0 - p.material.nu**2)
     x = np.zeros(mesh.n_dofs + 1)
@@ -52,7 +53,8 @@ def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "dis
         res, _ = solve_constrained(model, FixedHeight(touch - depth), History(), x, NewtonOptions())
         elapsed = time.perf_counter() - t
         if not res.converged:
-            print(f"| {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | no equilibrium: {res.reason} |")
+            print(f"| {element} | {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | no equilibrium: "
+                  f"{res.reason} |")
             return
         x = res.x
         u, h = x[:-1], x[-1]
@@ -64,13 +66,13 @@ def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "dis
         r2 = xs[..., 0] ** 2 + xs[..., 1] ** 2
         a_moment = math.sqrt(2.5 * np.sum(Tn * r2 * w) / np.sum(Tn * w))
         positions = mesh.nodes + u.reshape(-1, 3)
-        patch = contact_patch(positions, h - positions[:, 2] - p.adhesion.g_eq, mesh.surface_segments,
+        patch = contact_patch(positions, h - positions[:, 2] - p.adhesion.g_eq, mesh.surface_quads,
                               model.contact.multiplicity)
         a_area = math.sqrt(patch.area / math.pi)
         P = -Fn  # the whole sphere's (the half model reports it)
         a_h = (3 * P * 100.0 / (4 * E_star)) ** (1 / 3)
         p0 = 3 * P / (2 * math.pi * a_h**2)
-        print(f"| {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | {P:.4g} | {a_moment:.4f} "
+        print(f"| {element} | {h0:g} | {nu:g} | {formulation} | {mesh.n_dofs} | {depth:g} | {P:.4g} | {a_moment:.4f} "
               f"| {a_area:.4f} | {a_h:.4f} "
               f"| {a_moment / a_h - 1:+.2%} | {a_area / a_h - 1:+.2%} | {Tn.max() / p0 - 1:+.2%} | {res.iterations} "
               f"| {res.linear_iterations} "
@@ -83,14 +85,18 @@ def main() -> None:
     ap.add_argument("--depths", type=float, nargs="+", default=[0.05, 0.1, 0.2])
     ap.add_argument("--nu", type=float, nargs="+", default=[0.4])
     ap.add_argument("--formulation", nargs="+", default=["displacement"], choices=["displacement", "mixed"])
+    ap.add_argument("--element", nargs="+", default=["H1"], choices=["H1", "H2"],
+                    help="trilinear or triquadratic hexahedra (H2 with mixed: H2/P1)")
+    ap.add_argument("--gauss", type=int, default=2, help="Gauss points per face edge of the contact integral")
     args = ap.parse_args()
-    print("| h0 (L0) | nu | formulation | DOF | depth (L0) | P (E L0^2) | a, moment | a, Tn >= 0 | a, Hertz | a error "
+    print("| element | h0 (L0) | nu | formulation | DOF | depth (L0) | P (E L0^2) | a, moment | a, Tn >= 0 | a, Hertz | a error "
           "| a error, Tn >= 0 | peak p error | Newton | CG | time (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for h0 in args.h0:
-        for nu in args.nu:
-            for formulation in args.formulation:
-                run(h0, args.depths, nu, formulation)
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for element in args.element:
+        for h0 in args.h0:
+            for nu in args.nu:
+                for formulation in args.formulation:
+                    run(h0, args.depths, nu, formulation, element, args.gauss)
 
 
 if __name__ == "__main__":

@@ -41,3 +41,22 @@ def test_the_surface_series_holds_the_fields_at_the_current_points(tmp_path):
     np.testing.assert_array_equal(a["traction"], traction[1])
     np.testing.assert_array_equal(a["connectivity"].ravel(), np.arange(5))
     np.testing.assert_array_equal(a["types"].ravel(), np.ones(5))  # VTK_VERTEX
+
+
+def test_a_triquadratic_cell_is_vtks_triquadratic_hexahedron(tmp_path):
+    """H2 cells go out as VTK_TRIQUADRATIC_HEXAHEDRON (29) with capslide's node order, which is VTK's: the corners
+    and the mid-edge, mid-face and centre nodes at the reference points VTK lists."""
+    from capslide.fem.element import HEXES
+    from capslide.io.vtk import write_vtu
+
+    nodes = HEXES["H2"].nodes  # one cell: the reference cube
+    write_vtu(tmp_path / "h2.vtu", nodes, np.arange(27)[None], {"displacement": nodes}, {"I1_sigma": np.ones(1)})
+    a = _arrays(tmp_path / "h2.vtu")
+    np.testing.assert_array_equal(a["types"].ravel(), [29])
+    # VTK's triquadratic hexahedron: mid-edge nodes on (0,1) (1,2) (2,3) (3,0) (4,5) (5,6) (6,7) (7,4) (0,4) (1,5) (2,6)
+    # (3,7); mid-face nodes on the faces x = -1, x = 1, y = -1, y = 1, z = -1, z = 1; then the centre
+    pairs = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7)]
+    P = a["Points"]
+    np.testing.assert_array_equal(P[8:20], [(P[i] + P[j]) / 2 for i, j in pairs])
+    np.testing.assert_array_equal(P[20:26], [[-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]])
+    np.testing.assert_array_equal(P[26], [0, 0, 0])

@@ -25,8 +25,11 @@ from typing import Any
 import jsonschema
 import yaml
 
-__all__ = ["ConfigError", "schema", "load_yaml", "merge", "apply_overrides", "apply_settings", "override_args", "retyped",
-           "apply_preset", "check_schema", "check_finite", "validate", "load_config", "flatten"]
+__all__ = ["ConfigError", "SPHERE_ELEMENTS", "schema", "load_yaml", "merge", "apply_overrides", "apply_settings",
+           "override_args", "retyped", "apply_preset", "check_schema", "check_finite", "validate", "load_config", "flatten"]
+
+
+SPHERE_ELEMENTS = ("H1", "H2")  # mesh.element of the 3D sphere: trilinear or triquadratic hexahedra
 
 
 class ConfigError(ValueError):

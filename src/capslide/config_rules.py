@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from .config import ConfigError
+from .config import SPHERE_ELEMENTS, ConfigError
 
 __all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_maugis_lambda"]
 
@@ -15,7 +15,7 @@ __all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_
 # benchmarks/locking.py (docs/stability.md): the zero-load contact area of the paper's cap at the element's preset
 # (Q1: fast, Q2: paper) against a converged reference, within the preset's error budget (5 %, 1 %).
 # Q1: -3.8 % at nu = 0.45, -6.9 % at 0.48, -10.4 % at 0.49. Q2: -0.11 % at 0.48, -0.16 % at 0.49.
-LOCKING_NU = {"Q1": 0.45, "Q2": 0.49, "H1": 0.45}  # H1: Q1's measured limit, not yet measured in 3D
+LOCKING_NU = {"Q1": 0.45, "Q2": 0.49, "H1": 0.45, "H2": 0.49}  # H1, H2: Q1's and Q2's 2D limits
 
 
 def derive_from_maugis_lambda(config: dict) -> None:
@@ -27,7 +27,7 @@ def derive_from_maugis_lambda(config: dict) -> None:
         if "T_max" not in adh:
             raise ConfigError("missing key 'adhesion.T_max' (or set it through adhesion.maugis_lambda, 3D only)")
         return
-    if config["mesh"]["element"] != "H1":
+    if config["mesh"]["element"] not in SPHERE_ELEMENTS:
         raise ConfigError(f"adhesion.maugis_lambda = {lam!r} is not allowed with mesh.element = "
                           f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1)")
     mat, geo = config["material"], config["geometry"]
@@ -50,8 +50,8 @@ def derive_mu_DI(config: dict) -> None:
 
 
 def _check_three_d(config: Mapping) -> None:
-    """The 3D sphere (mesh.element = H1) has an elastic bulk only in this version (the viscous branches are 2D)."""
-    if config["mesh"]["element"] != "H1":
+    """The 3D sphere (mesh.element = H1, H2) has an elastic bulk only in this version (the viscous branches are 2D)."""
+    if config["mesh"]["element"] not in SPHERE_ELEMENTS:
         if config["mesh"]["max_layer_aspect"] is not None:
             raise ConfigError(f"mesh.max_layer_aspect = {config['mesh']['max_layer_aspect']!r} is not allowed with "
                               f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
@@ -66,8 +66,8 @@ def _check_three_d(config: Mapping) -> None:
     if line is not None and not line[0] < line[1]:
         raise ConfigError(f"mesh.line_band = {line!r} is not allowed: its inner radius must be below its outer one")
     if config["material"]["model"] != "neo_hooke":
-        raise ConfigError(f"material.model = {config['material']['model']!r} is not allowed with mesh.element = H1: "
-                          "the 3D sphere's bulk is elastic in this version (use 'neo_hooke')")
+        raise ConfigError(f"material.model = {config['material']['model']!r} is not allowed with mesh.element = "
+                          f"{config['mesh']['element']}: the 3D sphere's bulk is elastic in this version (use 'neo_hooke')")
 
 
 def _check_locking(config: Mapping) -> None:
@@ -75,7 +75,8 @@ def _check_locking(config: Mapping) -> None:
     nu, element, formulation = config["material"]["nu"], config["mesh"]["element"], config["mesh"]["formulation"]
     if formulation == "mixed":
         if element == "Q1":
-            raise ConfigError("mesh.formulation = mixed needs mesh.element = Q2 (Q2/P1) or H1 (H1/P0), not Q1")
+            raise ConfigError("mesh.formulation = mixed needs mesh.element = Q2 (Q2/P1), H1 (H1/P0) or H2 (H2/P1), not "
+                              "Q1")
         return
     if nu == 0.5:
         raise ConfigError("material.nu = 0.5 (incompressible) needs mesh.formulation = mixed with mesh.element = Q2 "
@@ -153,7 +154,7 @@ def check_consistency(config: Mapping) -> None:
     # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
     R, H = geo["R"], geo["H"]
     arc = 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
-    if config["mesh"]["element"] == "H1":  # the sphere: the cap's area 2 pi R H (force in E L0^2)
+    if config["mesh"]["element"] in SPHERE_ELEMENTS:  # the sphere: the cap's area 2 pi R H (force in E L0^2)
         arc = 2.0 * math.pi * R * H
     bound = config["adhesion"]["T_max"] / config["material"]["E"] * arc
     preload = config["loading"]["preload"]
@@ -168,7 +169,7 @@ def check_consistency(config: Mapping) -> None:
                           "give the spring's stiffness per unit width (Pa; in 3D, mesh.element = H1: N/m)")
     _check_no_op_keys(config)
     k, E = load["spring_stiffness"], config["material"]["E"]
-    three_d = config["mesh"]["element"] == "H1"  # the sphere's spring in N/m: against E L0
+    three_d = config["mesh"]["element"] in SPHERE_ELEMENTS  # the sphere's spring in N/m: against E L0
     scale, unit = (E * config["geometry"]["L0"], "N/m") if three_d else (E, "Pa")
     if load["normal_control"] == "spring" and k / scale > MAX_SPRING_OVER_E:
         raise ConfigError(f"loading.spring_stiffness = {k!r} is not allowed: must be at most {MAX_SPRING_OVER_E:g} x "

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .config import ConfigError
+from .config import SPHERE_ELEMENTS, ConfigError
 
 __all__ = [
     "cgcm_constants",
@@ -242,9 +242,9 @@ class SolverSpec:
 
 def spring_unit(config: Mapping) -> float:
     """What loading.spring_stiffness is divided by: E (Pa) for the 2D cap's spring per unit width (N/m per m), E L0
-    (N/m) for the 3D sphere's spring (mesh.element = H1)."""
+    (N/m) for the 3D sphere's spring (mesh.element = H1 or H2)."""
     E, L0 = config["material"]["E"], config["geometry"]["L0"]
-    return E * L0 if config["mesh"]["element"] == "H1" else E
+    return E * L0 if config["mesh"]["element"] in SPHERE_ELEMENTS else E
 
 
 def _check_path_time(L: Loading, velocity_si: float | None) -> None:

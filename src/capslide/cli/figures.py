@@ -58,7 +58,7 @@ def cmd_figure(args) -> int:
         case = open_result(args.input, "case")
         if "Z_node" not in case.coords or "traction_n" not in case:
             raise InputError(f"'{args.input}' is not a 3D case with surface profiles (figure '{args.name}' needs "
-                             "mesh.element = H1 and output.surface_profiles)")
+                             "mesh.element = H1 or H2 and output.surface_profiles)")
         params = Parameters.from_config(config_of(args.input))
         draw = lambda: figures.SPHERE_FIGURES[args.name](case, params)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import yaml
 
-from ..config import ConfigError
+from ..config import SPHERE_ELEMENTS, ConfigError
 from ..states import Status
 from .common import EXIT_STATUS, InputError, check_outputs, config_sources, csv_text, parameters, write_text_atomic
 
@@ -48,7 +48,7 @@ def cmd_verify(args) -> int:
                          "compressive (P > 0; at P <= 0 a Hertz contact has no width to compare)")
     (output,) = check_outputs([args.output], {"csv"})
     progress = None if args.quiet else ProgressDisplay()
-    if params.mesh.element == "H1":  # the sphere's closed forms; rows named by the scene (its file)
+    if params.mesh.element in SPHERE_ELEMENTS:  # the sphere's closed forms; rows named by the scene (its file)
         from ..studies.verification_3d import sphere_sweep as sweep
 
         scene = args.scene or Path(config_sources(args)[-1]).stem

@@ -4,8 +4,11 @@ Quadrilaterals live on [-1, 1]^2 with local coordinates (xi, eta). Node order:
 Q1 (4 nodes) counter-clockwise from (-1, -1); Q2 (9 nodes) the four corners
 as Q1, then the mid-edge nodes of the edges (bottom, right, top, left), then
 the centre. Lines live on [-1, 1]; node order Q1 (-1, 1), Q2 (-1, 0, 1).
-Hexahedra live on [-1, 1]^3 (xi, eta, zeta); the trilinear H1 (8 nodes) takes VTK's order: the bottom face
-(zeta = -1) counter-clockwise from (-1, -1, -1), then the top face in the same order.
+Hexahedra live on [-1, 1]^3 (xi, eta, zeta) and take VTK's order. The trilinear H1 (8 nodes): the bottom face
+(zeta = -1) counter-clockwise from (-1, -1, -1), then the top face in the same order. The triquadratic H2 (27
+nodes, VTK_TRIQUADRATIC_HEXAHEDRON): H1's corners; the mid-edge nodes of the bottom face's edges (0-1, 1-2, 2-3,
+3-0), of the top face's, and of the vertical edges (0-4, 1-5, 2-6, 3-7); the face centres of the faces
+xi = -1, xi = 1, eta = -1, eta = 1, zeta = -1, zeta = 1; the centre.
 """
 
 from __future__ import annotations
@@ -106,6 +109,14 @@ _H1_NODES = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                       [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
 
 
-HEXES = {"H1": ReferenceCell("H1", 1, _H1_NODES)}
+_H2_NODES = np.vstack([
+    _H1_NODES,
+    [[0, -1, -1], [1, 0, -1], [0, 1, -1], [-1, 0, -1], [0, -1, 1], [1, 0, 1], [0, 1, 1], [-1, 0, 1],
+     [-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]],
+    [[-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1], [0, 0, 0]],
+]).astype(float)
+
+
+HEXES = {"H1": ReferenceCell("H1", 1, _H1_NODES), "H2": ReferenceCell("H2", 2, _H2_NODES)}
 
 CELLS = {**QUADS, **HEXES}  # every reference cell by name: a mesh's element names its cell and so its dimension

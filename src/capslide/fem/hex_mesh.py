@@ -25,7 +25,10 @@ without its 3:1 transitions:
   the sphere from phi1 down to the base.
 
 Cells inside the band (reference radius <= ``band_radius`` on the top) are h0 wide or less. The cell and node
-counts follow from the plan alone (:func:`sphere_cap_counts`).
+counts follow from the plan alone (:func:`sphere_cap_counts`). With ``order`` 2 the same cells are triquadratic
+(H2): the logical half disk gains its edges' midpoints and its quadrilaterals' centres, each column's depths are
+its corners' mean, the layers gain their mid levels, and every node goes through the same map (so the top's nodes
+lie on the sphere).
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ class SphereCapSpec:
     whole: bool = False  # the whole cap (no plane of symmetry) instead of the half y >= 0
     line_band: tuple[float, float] | None = None  # reference radii (inner, outer) of the annulus refined radially
     line_size: float | None = None  # ring width and top layer thickness in that annulus (L0)
+    order: int = 1  # 1: trilinear hexahedra (H1); 2: triquadratic (H2, 27 nodes) on the same cells
 
     def line(self) -> tuple[float, float, float] | None:
         """The contact-line annulus as (inner, outer, size), or None."""
@@ -195,7 +199,35 @@ def sphere_cap_counts(spec: SphereCapSpec) -> tuple[int, int]:
     if spec.whole:  # the mirror image of the half disk, sharing the points on y = 0
         quads, points = 2 * quads, 2 * points - (2 * n + 1) - 2 * (len(radii) - 1)
     layers = _layer_count(spec.H, spec.finest_top(), spec.layer_growth, _max_thickness(spec))
+    if spec.order == 2:  # a disk's edges number points + quads - 1 (Euler); every level gains a mid level
+        return quads * layers, (2 * points + 2 * quads - 1) * (2 * layers + 1)
     return quads * layers, points * (layers + 1)
+
+
+def _quadratic_disk(disk: np.ndarray, quads: np.ndarray, U: float) -> tuple[np.ndarray, ...]:
+    """The logical disk's points with its edges' midpoints and its quadrilaterals' centres appended (an edge on
+    the rim |P| = U has its midpoint on the rim); each quad's edge ids (q, 4) in the order of its edges 0-1, 1-2,
+    2-3, 3-0, and its centre ids (q,) (both numbered after the points); and the parents of every new point as a
+    (new, 4) index array (an edge's two ends twice)."""
+    pairs = np.sort(quads[:, [0, 1, 1, 2, 2, 3, 3, 0]].reshape(-1, 2), axis=1)
+    ends, edge_of = np.unique(pairs, axis=0, return_inverse=True)
+    m, e = len(disk), len(ends)
+    parents = np.vstack([ends[:, [0, 1, 0, 1]], quads])
+    new = disk[parents].mean(axis=1)
+    rim = np.all(np.isclose(np.linalg.norm(disk[ends], axis=2), U, rtol=1e-12), axis=1)
+    new[:e][rim] *= U / np.linalg.norm(new[:e][rim], axis=1, keepdims=True)
+    return np.vstack([disk, new]), m + edge_of.reshape(-1, 4), m + e + np.arange(len(quads)), parents
+
+
+def _triquadratic_cells(quads: np.ndarray, edges: np.ndarray, centres: np.ndarray, layers: int, m: int) -> np.ndarray:
+    """The H2 cells (VTK order) of the layers between levels 2k (upper) and 2k + 2 (lower), with mid level 2k + 1,
+    of m logical points per level."""
+    cells = []
+    for k in range(layers):
+        lo, mid, up = (2 * k + 2) * m, (2 * k + 1) * m, 2 * k * m
+        cells.append(np.hstack([quads + lo, quads + up, edges + lo, edges + up, quads + mid,
+                                edges[:, [3, 1, 0, 2]] + mid, centres[:, None] + [lo, up, mid]]))
+    return np.vstack(cells)
 
 
 def _max_thickness(spec: SphereCapSpec) -> float:
@@ -227,19 +259,30 @@ def sphere_cap_mesh(spec: SphereCapSpec) -> Mesh:
     top = np.maximum(spec.h0, np.interp(s, radii[:-1], widths, left=spec.h0) * (s > spec.band_radius))
     if spec.line_band is not None:  # as thin as the rings about the contact line
         top = np.where(s <= spec.band_radius, np.minimum(top, _line_width(s, *spec.line())), top)
-    v = (spec.H - _depths(top, spec.H, layers)).ravel()  # level k of point i at k * m + i
+    depths = _depths(top, spec.H, layers)
+    if spec.order == 2:
+        disk, edges, centres, parents = _quadratic_disk(disk, quads, U)
+        depths = np.hstack([depths, depths[:, parents].mean(axis=2)])  # (layers + 1, all points)
+        depths = np.vstack([np.vstack([depths[:-1], 0.5 * (depths[:-1] + depths[1:])]).reshape(2, layers, -1)
+                            .transpose(1, 0, 2).reshape(2 * layers, -1), depths[-1:]])
+        s = np.linalg.norm(disk, axis=1)
+    levels = len(depths)
+    v = (spec.H - depths).ravel()  # level k of point i at k * m + i
     m = len(disk)
-    rz = coons_map(np.column_stack([np.tile(s, layers + 1), v]), meridian, U, phi0, phi1)
-    scale = np.divide(rz[:, 0], np.tile(s, layers + 1), out=np.zeros(len(rz)), where=np.tile(s, layers + 1) > 0)
-    nodes = np.column_stack([np.tile(disk, (layers + 1, 1)) * scale[:, None], rz[:, 1]])
-    # layer k lies between level k (upper) and level k + 1 (lower): VTK order, the lower face first
-    cells = np.vstack([np.hstack([quads + (k + 1) * m, quads + k * m]) for k in range(layers)])
-    base = np.arange(layers * m, (layers + 1) * m)
-    symmetry = np.flatnonzero(np.tile(disk[:, 1], layers + 1) == 0.0) if not spec.whole else np.zeros(0, dtype=np.int64)
+    rz = coons_map(np.column_stack([np.tile(s, levels), v]), meridian, U, phi0, phi1)
+    scale = np.divide(rz[:, 0], np.tile(s, levels), out=np.zeros(len(rz)), where=np.tile(s, levels) > 0)
+    nodes = np.column_stack([np.tile(disk, (levels, 1)) * scale[:, None], rz[:, 1]])
+    if spec.order == 2:
+        cells = _triquadratic_cells(quads, edges, centres, layers, m)
+        quads = np.hstack([quads, edges, centres[:, None]])  # the top's faces: Q2 order
+    else:  # layer k lies between level k (upper) and level k + 1 (lower): VTK order, the lower face first
+        cells = np.vstack([np.hstack([quads + (k + 1) * m, quads + k * m]) for k in range(layers)])
+    base = np.arange((levels - 1) * m, levels * m)
+    symmetry = np.flatnonzero(np.tile(disk[:, 1], levels) == 0.0) if not spec.whole else np.zeros(0, dtype=np.int64)
     info = {"h0": spec.h0, "band_radius": spec.band_radius, "U": U, "phi0": phi0, "phi1": phi1, "layers": layers}
     if spec.line_band is not None:
         info |= {"line_band": spec.line_band, "line_size": spec.line_size}
-    return Mesh("H1", nodes, cells, base, quads.copy(), info, symmetry=symmetry)
+    return Mesh("H2" if spec.order == 2 else "H1", nodes, cells, base, quads.copy(), info, symmetry=symmetry)
 
 
 def box_mesh(nx: int, ny: int, nz: int, size=(1.0, 1.0, 1.0), distortion: float = 0.0, seed: int = 0) -> Mesh:

@@ -43,9 +43,9 @@ class Mesh:
     ``nodes`` (n_nodes, d) reference coordinates (L0); ``cells`` (n_cells,
     n_per_cell) node ids in :mod:`capslide.fem.element` order; ``base`` node ids
     of the clamped base; ``surface_segments`` the top surface's facets: in 2D (n_segments, order + 1) node ids of
-    the edges in line order, left to right, sorted by reference x; in 3D (n_faces, 4) node ids of the
-    quadrilateral faces, counter-clockwise seen from outside; ``symmetry`` node ids on the plane of symmetry y = 0
-    of a 3D half model (none in 2D).
+    the edges in line order, left to right, sorted by reference x; in 3D (n_faces, 4 or 9) node ids of the
+    quadrilateral faces (Q1 or Q2 order), counter-clockwise seen from outside; ``symmetry`` node ids on the plane
+    of symmetry y = 0 of a 3D half model (none in 2D).
     """
 
     element: str
@@ -71,6 +71,16 @@ class Mesh:
     @property
     def n_dofs(self) -> int:
         return self.dim * len(self.nodes)
+
+    @property
+    def surface_quads(self) -> np.ndarray:
+        """3D: the top's faces as bilinear quadrilaterals (n, 4), counter-clockwise from above: the faces themselves
+        (H1), or each 9-node face as its four quarters (H2), face k's quarters at rows 4k to 4k + 3."""
+        seg = self.surface_segments
+        if seg.shape[1] == 4:
+            return seg
+        quarters = [[0, 4, 8, 7], [4, 1, 5, 8], [8, 5, 2, 6], [7, 8, 6, 3]]  # Q2 order: corners, mid-edges, centre
+        return seg[:, quarters].reshape(-1, 4)
 
     @property
     def surface_nodes(self) -> np.ndarray:

@@ -5,9 +5,10 @@ dilatation theta and a pressure p that are linear in each cell and discontinuous
 reference coordinates, basis 1, (X - X_c)/h_c, (Y - Y_c)/h_c); Q2/P1 satisfies the inf-sup condition (Boffi,
 Brezzi and Fortin 2013, section 8.6.3). In 3D: trilinear H1 displacements with theta and p constant in each cell
 (H1/P0, the mean dilatation method of Nagtegaal, Parks and Rice 1974 and Simo, Taylor and Pister 1985: free of
-locking, not inf-sup stable, its pressure may checkerboard). Both fields are condensed cell by cell: theta is the
-L2 projection of J = det F onto the pressure space, p the projection of U'(theta), so the global system stays
-displacement-only.
+locking, not inf-sup stable, its pressure may checkerboard), or triquadratic H2 displacements with theta and p
+linear in each cell (H2/P1, basis 1, (X - X_c)/h_c, (Y - Y_c)/h_c, (Z - Z_c)/h_c; Q2/P1's 3D pair). Both fields
+are condensed cell by cell: theta is the L2 projection of J = det F onto the pressure space, p the projection of
+U'(theta), so the global system stays displacement-only.
 
 The energy is the neo-Hooke law of :mod:`capslide.laws.material` with J replaced by theta in its volumetric part:
 W = mu/2 (I1 - 3 - 2 ln J) + U(theta), U(theta) = Lambda/4 (theta^2 - 1 - 2 ln theta). The first Piola stress is
@@ -34,20 +35,20 @@ PENALTY_OVER_MU = 1e2  # kappa / mu of the augmented Lagrangian at nu = 0.5
 VOLUME_TOLERANCE = 1e-10  # max |theta - 1| at which Uzawa's iteration stops (nu = 0.5)
 
 
-PRESSURE_SPACE = {"Q2": "P1", "H1": "P0"}  # the mixed pairs: Q2/P1 (2D), H1/P0 (3D)
+PRESSURE_SPACE = {"Q2": "P1", "H1": "P0", "H2": "P1"}  # the mixed pairs: Q2/P1 (2D), H1/P0 and H2/P1 (3D)
 
 
 class MixedBulkForm(BulkForm):
-    """Internal forces and tangent of the Q2/P1 (2D) or H1/P0 (3D) neo-Hooke bulk; ``lam`` may be ``inf``
+    """Internal forces and tangent of the Q2/P1 (2D), H1/P0 or H2/P1 (3D) neo-Hooke bulk; ``lam`` may be ``inf``
     (incompressible).
 
     Every evaluation takes ``multiplier``, the augmented Lagrangian's pressure multiplier (n_cells, m) as the
-    pressure space's coefficients (E; m = 3 for P1, 1 for P0), used only when ``lam`` is infinite (None = zero).
+    pressure space's coefficients (E; m = 1 + dim for P1, 1 for P0), used only when ``lam`` is infinite (None = zero).
     """
 
     def __init__(self, mesh: Mesh, lam: float, mu: float, quadrature: int | None = None):
         if mesh.element not in PRESSURE_SPACE:
-            raise ValueError(f"the mixed formulation needs Q2 or H1 elements, not {mesh.element}")
+            raise ValueError(f"the mixed formulation needs Q2, H1 or H2 elements, not {mesh.element}")
         super().__init__(mesh, 0.0, mu, quadrature)  # the deviatoric part: neo-Hooke with Lambda = 0
         self.volumetric = float(lam)
         self.incompressible = not math.isfinite(self.volumetric)
@@ -60,8 +61,9 @@ class MixedBulkForm(BulkForm):
         else:
             area = self.wdetJ.sum(axis=1)
             centre = np.einsum("eq,eqi->ei", self.wdetJ, Xq) / area[:, None]
-            scaled = (Xq - centre[:, None, :]) / np.sqrt(area)[:, None, None]
-            self.Np = np.concatenate([np.ones(Xq.shape[:2] + (1,)), scaled], axis=-1)  # (e, q, 3)
+            size = np.sqrt(area) if mesh.dim == 2 else np.cbrt(area)  # the cell's size (its volume in 3D)
+            scaled = (Xq - centre[:, None, :]) / size[:, None, None]
+            self.Np = np.concatenate([np.ones(Xq.shape[:2] + (1,)), scaled], axis=-1)  # (e, q, 1 + dim)
         M = np.einsum("eqm,eq,eqn->emn", self.Np, self.wdetJ, self.Np)
         self.M_inv = np.linalg.inv(M)
         # the projection onto P1 at the quadrature points: f -> Np M^-1 int Np f, (e, q, q)

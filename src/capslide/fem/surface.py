@@ -1,7 +1,8 @@
 """The cap's top surface as a quadrature: Gauss points on its facets, their current positions and tangents, and
 the surface stretch J_s with its gradient.
 
-The facets are line elements in 2D (ordered by reference x) and bilinear quadrilateral faces in 3D. J_s is the
+The facets are line elements in 2D (ordered by reference x) and bilinear (H1) or biquadratic (H2) quadrilateral
+faces in 3D. J_s is the
 ratio of current to reference measure at a point: |dx/ds| / |dX/ds| in 2D (a length ratio), |x,xi x x,eta| /
 |X,xi x X,eta| in 3D (an area ratio, Nanson's formula; Sauer and De Lorenzis 2013, CMAME 253, 369).
 """
@@ -20,12 +21,12 @@ __all__ = ["SurfaceQuadrature", "stretch", "stretch_gradient_3d"]
 
 @dataclass(frozen=True)
 class SurfaceQuadrature:
-    """Gauss points on the top-surface facets: line elements in 2D, ordered by reference x; bilinear quadrilateral
-    faces in 3D (an n_gauss x n_gauss rule on each)."""
+    """Gauss points on the top-surface facets: line elements in 2D, ordered by reference x; bilinear or biquadratic
+    quadrilateral faces in 3D (an n_gauss x n_gauss rule on each)."""
 
-    segments: np.ndarray  # (s, p+1) node ids (3D: (s, 4))
+    segments: np.ndarray  # (s, p+1) node ids (3D: (s, 4) or (s, 9))
     N: np.ndarray  # (g, p+1) shape functions at the Gauss points
-    dN: np.ndarray  # (g, p+1) d/ds (3D: (g, 4, 2), d/dxi and d/deta)
+    dN: np.ndarray  # (g, p+1) d/ds (3D: (g, 4 or 9, 2), d/dxi and d/deta)
     weight: np.ndarray  # (s, g) Gauss weight times the reference length (3D: area) element
     X: np.ndarray  # (s, g, d) reference positions
     X_nodes: np.ndarray  # (s, p+1, d) reference positions of the segment nodes
@@ -37,7 +38,7 @@ class SurfaceQuadrature:
         Xn = mesh.nodes[seg]  # (s, a, d)
         if mesh.dim == 3:
             points, w = gauss_quad(n_gauss)
-            N, dN = QUADS["Q1"].shape(points)
+            N, dN = QUADS["Q1" if seg.shape[1] == 4 else "Q2"].shape(points)
             dX = np.einsum("gak,sai->sgik", dN, Xn)
             area = np.linalg.norm(np.cross(dX[..., 0], dX[..., 1]), axis=-1)
             return cls(seg, N, dN, w * area, np.einsum("ga,sai->sgi", N, Xn), Xn, area)

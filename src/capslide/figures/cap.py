@@ -6,6 +6,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..config import SPHERE_ELEMENTS
 from ..fem.mesh import Mesh
 from ..params import Parameters
 from ..states import Phase
@@ -74,7 +75,7 @@ def _model_style(cases, model: str):
 
 def _units(cases) -> dict[str, str]:
     """Axis texts of the cube's forces and areas: per unit width W of the 2D cap, the whole sphere's in 3D."""
-    if str(cases.attrs.get("mesh_element")) == "H1":
+    if str(cases.attrs.get("mesh_element")) in SPHERE_ELEMENTS:
         return {"Ft": r"$F_\mathrm{t}\,/\,(E L_0^2)$", "area": r"contact area $A\,/\,L_0^2$", "Fn": r"F_\mathrm{n}/E L_0^2"}
     return {"Ft": r"$F_\mathrm{t}\,/\,(E L_0 W)$", "area": r"contact area $A\,/\,L_0$", "Fn": r"F_\mathrm{n}^*"}
 

@@ -1,4 +1,4 @@
-"""Figures of a 3D sphere case (mesh.element = H1): the normal traction over the contact plane, the load against
+"""Figures of a 3D sphere case (mesh.element = H1, H2): the normal traction over the contact plane, the load against
 the contact radius with the JKR and Maugis-Dugdale spheres, and the contact and stick-zone outlines seen from above
 during the slide."""
 

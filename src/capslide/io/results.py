@@ -33,7 +33,7 @@ __all__ = ["CONVENTIONS", "LONG_NAME_MAX", "KEY_PARAMETERS", "key_parameters", "
 
 CONVENTIONS = "CF-1.10"
 LONG_NAME_MAX = 40  # characters: a long_name is an axis label
-CELL_NODE_ORDER = "Q1: counter-clockwise; Q2: corners, mid-edges, centre"
+CELL_NODE_ORDER = "Q1: counter-clockwise; Q2: corners, mid-edges, centre; H1, H2: VTK's hexahedron orders"
 # The configuration keys a file carries as global attributes (``section_key``), those a reader labels a case with;
 # the whole configuration is the attribute ``config_yaml``.
 KEY_PARAMETERS = ("material.E", "material.nu", "material.model", "adhesion.T_max", "adhesion.W_adh", "geometry.L0",
@@ -170,13 +170,13 @@ def _slip_profiles(recs, slip: np.ndarray, u: Mapping[str, str], slip_y: np.ndar
 def _outline_variables(mesh: Mesh, snaps, area_gap: float, u: Mapping[str, str]) -> dict:
     """3D: each snapshot's contact outline and stick-zone outline in the contact plane (the whole body's, closed
     polylines joined by a NaN row, padded with NaN; :func:`capslide.loadpath.contact_patch.snapshot_outlines`)."""
-    faces = mesh.surface_segments
+    faces, n = mesh.surface_quads, len(mesh.surface_segments)
     curves = {"outline": [], "stick_outline": []}
     for sn in snaps:
         x = mesh.nodes + sn.u
-        states = sn.slip_state.reshape(len(faces), -1) if sn.slip_state.size else np.zeros((len(faces), 1))
-        contact, stick = snapshot_outlines(x, sn.h - x[:, 2], faces, np.mean(states == SlipState.STICK, axis=1), area_gap,
-                                           mirror_y=len(mesh.symmetry) > 0)
+        states = sn.slip_state.reshape(n, -1) if sn.slip_state.size else np.zeros((n, 1))
+        stick = np.repeat(np.mean(states == SlipState.STICK, axis=1), len(faces) // n)  # a face's share on its quarters
+        contact, stick = snapshot_outlines(x, sn.h - x[:, 2], faces, stick, area_gap, mirror_y=len(mesh.symmetry) > 0)
         curves["outline"].append(contact)
         curves["stick_outline"].append(stick)
     what = {"outline": "the contact's edge (g_n = the contact gap, from the nodal gaps)",

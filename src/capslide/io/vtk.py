@@ -6,10 +6,11 @@ data arrays and a UInt64 header. Points are the reference node coordinates
 (ParaView: Warp By Vector) and the cell array ``I1_sigma`` (/ E) the first
 stress invariant. Q1 cells are VTK_QUAD (9); Q2 cells VTK_BIQUADRATIC_QUAD
 (28), whose node order (corners, mid-edges bottom/right/top/left, centre) is
-capslide's; H1 cells VTK_HEXAHEDRON (12), in VTK's order as capslide's. The ``.pvd`` index carries ubar as its time value, so
-ParaView's time slider steps through the slide. A 3D case's surface fields at the snapshots (gap, normal traction,
-the traction vector, slip state and slip at the surface Gauss points) go to a second series of points
-(VTK_VERTEX, 1) placed at their current x, y on the substrate's plane z = 0: a map of the contact plane. Files are
+capslide's; H1 cells VTK_HEXAHEDRON (12) and H2 cells VTK_TRIQUADRATIC_HEXAHEDRON (29), in VTK's orders as
+capslide's. The ``.pvd`` index carries ubar as its time value, so ParaView's time slider steps through the slide.
+A 3D case's surface fields at the snapshots (gap, normal traction, the traction vector, slip state and slip at the
+surface Gauss points) go to a second series of points (VTK_VERTEX, 1) placed at their current x, y on the
+substrate's plane z = 0: a map of the contact plane. Files are
 written atomically.
 """
 
@@ -25,7 +26,8 @@ from .atomic import replacing
 
 __all__ = ["VTK_CELL_TYPES", "write_vtu", "write_pvd", "write_snapshot_series", "write_surface_series", "snapshot_steps"]
 
-VTK_CELL_TYPES = {4: 9, 9: 28, 8: 12, 1: 1}  # nodes per cell -> VTK_QUAD, VTK_BIQUADRATIC_QUAD, VTK_HEXAHEDRON, VTK_VERTEX
+VTK_CELL_TYPES = {4: 9, 9: 28, 8: 12, 27: 29, 1: 1}  # nodes per cell -> VTK_QUAD, VTK_BIQUADRATIC_QUAD, VTK_HEXAHEDRON,
+# VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VERTEX
 _VTK_TYPE_NAMES = {("f", 8): "Float64", ("f", 4): "Float32", ("i", 8): "Int64", ("u", 1): "UInt8"}
 
 
@@ -45,12 +47,12 @@ def _write_atomic(path: Path, text: str) -> None:
 
 def write_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray, point_vectors: dict[str, np.ndarray],
               cell_scalars: dict[str, np.ndarray], point_scalars: dict[str, np.ndarray] | None = None) -> Path:
-    """One unstructured grid: ``nodes`` (n, d), ``cells`` (m, 4, 9, 8 or 1) node ids, point vectors (n, d), cell
+    """One unstructured grid: ``nodes`` (n, d), ``cells`` (m, 4, 9, 8, 27 or 1) node ids, point vectors (n, d), cell
     and point scalars (d = 2: padded with z = 0)."""
     path = Path(path)
     n, m = len(nodes), len(cells)
     if cells.shape[1] not in VTK_CELL_TYPES:
-        raise ValueError(f"cells with {cells.shape[1]} nodes have no VTK type here (allowed: 4, 9, 8, 1)")
+        raise ValueError(f"cells with {cells.shape[1]} nodes have no VTK type here (allowed: 4, 9, 8, 27, 1)")
 
     def three(a: np.ndarray) -> np.ndarray:
         return (a if a.shape[1] == 3 else np.column_stack([a, np.zeros(n)])).astype(np.float64)

@@ -130,7 +130,7 @@ def _patch_measures(model: CapModel, u: np.ndarray, h: float) -> tuple[float, ..
     X = mesh.nodes
     x = X + u.reshape(-1, 3)
     g = h - x[:, 2]
-    faces, k = mesh.surface_segments, c.multiplicity
+    faces, k = mesh.surface_quads, c.multiplicity
     patch = contact_patch(x, g - model.params.contact.area_gap, faces, k)
     reference = contact_patch(X, g - model.params.contact.area_gap, faces, k)
     compressive = contact_patch(x, g - model.params.adhesion.g_eq, faces, k)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ..config import ConfigError
+from ..config import SPHERE_ELEMENTS, ConfigError
 from ..fem.assembly import rigid_body_modes
 from ..fem.hex_mesh import SphereCapSpec, sphere_cap_mesh
 from ..fem.mesh import H0_AT_SIZE_1, CapMeshSpec, Mesh, cap_mesh
@@ -34,7 +34,7 @@ def cap_mesh_spec(params: Parameters) -> CapMeshSpec:
 
 
 def sphere_cap_spec(params: Parameters) -> SphereCapSpec:
-    """Mesh inputs of a 3D configuration (mesh.element = H1). The default band radius covers the contact up to a
+    """Mesh inputs of a 3D configuration (mesh.element = H1 or H2). The default band radius covers the contact up to a
     compressive load of twice the JKR pull-off force's size: 1.3 times the JKR radius at that load (a sphere,
     rigid flat), at least 1.3 times the radius at the compressive load pi W R."""
     g, m, mat = params.geometry, params.mesh, params.material
@@ -51,12 +51,13 @@ def sphere_cap_spec(params: Parameters) -> SphereCapSpec:
                           f"contact band's radius {band:.4g} L0 (mesh.band_half_width)")
     return SphereCapSpec(R=g.R, H=g.H, h0=h0, band_radius=band, max_size_over_H=m.max_size_over_H,
                          max_layer_aspect=m.max_layer_aspect, whole=not m.symmetry_plane, line_band=m.line_band,
-                         line_size=None if m.line_band is None else h0 / m.line_refinement)
+                         line_size=None if m.line_band is None else h0 / m.line_refinement,
+                         order=2 if m.element == "H2" else 1)
 
 
 def mesh_spec(params: Parameters) -> CapMeshSpec | SphereCapSpec:
-    """Mesh inputs of a configuration: the 2D cap (Q1, Q2) or the 3D sphere's half model (H1)."""
-    return sphere_cap_spec(params) if params.mesh.element == "H1" else cap_mesh_spec(params)
+    """Mesh inputs of a configuration: the 2D cap (Q1, Q2) or the 3D sphere's half model (H1, H2)."""
+    return sphere_cap_spec(params) if params.mesh.element in SPHERE_ELEMENTS else cap_mesh_spec(params)
 
 
 def mesh_from_spec(spec: CapMeshSpec | SphereCapSpec) -> Mesh:

@@ -25,6 +25,8 @@ MEMORY_PER_DOF = {"Q1": 4000.0, "Q2": 6500.0}
 # H1: benchmarks/amg_sphere.py's peak resident memory over the DOF (a tangent and one AMG setup and solve): 1.6 GB at
 # 82k DOF, 8.1 GB at 369k (the sparse pattern's construction is the peak)
 MEMORY_PER_DOF["H1"] = 22000.0
+# H2: a 27-node cell couples 81 DOF; the sparse pattern has about 2.4 times H1's entries per row
+MEMORY_PER_DOF["H2"] = 50000.0
 
 
 @dataclass(frozen=True)
@@ -52,7 +54,7 @@ def _least_steps(p: Parameters) -> dict[str, int]:
 def estimate(p: Parameters, spec: CapMeshSpec | SphereCapSpec) -> Cost:
     """Cells, DOF, peak memory (GB) and least steps of a case on the cap mesh of ``spec`` (2D, or the 3D sphere's)."""
     if isinstance(spec, SphereCapSpec):
-        (cells, nodes), dim, element = sphere_cap_counts(spec), 3, "H1"
+        (cells, nodes), dim, element = sphere_cap_counts(spec), 3, "H2" if spec.order == 2 else "H1"
     else:
         (cells, nodes), dim, element = cell_and_node_counts(spec), 2, spec.element
     dofs = dim * nodes

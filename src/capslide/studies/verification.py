@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..config import SPHERE_ELEMENTS
 from ..io.reading import ResultFileError
 from ..io.sweep_checkpoint import SavedSweep
 from ..laws import analytic, contact, sphere
@@ -168,7 +169,7 @@ def pull_off_reference(params: Parameters) -> float:
     unit width), the Maugis-Dugdale sphere at the scene's Maugis parameter in 3D (:mod:`capslide.laws.sphere`)."""
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     R, w = params.geometry.R, params.adhesion.W_adh
-    if params.mesh.element == "H1":
+    if params.mesh.element in SPHERE_ELEMENTS:
         lam = sphere.maugis_parameter_sphere(R, E_star, w, params.adhesion.T_max)
         return sphere.md_pull_off(lam)[0] * math.pi * w * R
     return analytic.jkr_cylinder_pull_off(R, E_star, w)

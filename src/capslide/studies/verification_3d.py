@@ -1,4 +1,4 @@
-"""Normal-contact verification of the 3D sphere (mesh.element = H1) against the Hertz and Maugis-Dugdale spheres.
+"""Normal-contact verification of the 3D sphere (mesh.element = H1, H2) against the Hertz and Maugis-Dugdale spheres.
 
 The same sweeps as the 2D line contacts (:mod:`capslide.studies.verification`: force control through the loads, or
 one edge-controlled path through the pull-off point with an exact force-controlled equilibrium at each load), with
