@@ -145,12 +145,12 @@ def test_the_h2_models_bordered_jacobian_with_friction(formulation):
 
 @pytest.mark.slow
 def test_a_triquadratic_sphere_runs_to_zero_load_and_slides_at_tau_times_area(tmp_path):
-    """The whole path on H2 (coarse: 7,857 DOF; several minutes, its spread cutting back on cells 2.7 L0 wide):
+    """The whole path on H2 (coarse: 13,041 DOF, about 3.5 minutes):
     approach, spread and preload to zero load, then DI slides to full sliding; the case file holds the 27-node cells
     and the contact's outline, a circle of the file's area at zero load; at full sliding Ft = tau A within 0.5 % with
     the area on the surface points (as H1 in tests/test_sliding_3d.py)."""
     p = Parameters.from_config(load_config(["sphere"], [
-        "mesh.element=H2", "mesh.size=600", "mesh.surface_gauss_points=4", "loading.approach_edge_step=1.0",
+        "mesh.element=H2", "mesh.size=440", "mesh.surface_gauss_points=4", "loading.approach_edge_step=1.0",
         "loading.max_slide_step=0.3", "friction.model=DI", "loading.ubar_max=3.0", "output.snapshot_ubar=[0.0]",
         "solver.linear=lu_krylov"]))
     result = run_case(p)
@@ -158,10 +158,10 @@ def test_a_triquadratic_sphere_runs_to_zero_load_and_slides_at_tau_times_area(tm
     ds = xr.open_dataset(tmp_path / "h2.nc")
     assert ds.attrs["status"] == "completed", ds.attrs.get("status_reason")
     assert ds["cell_nodes"].shape[1] == 27
-    xy = ds["outline"].values[0]
-    xy = xy[np.isfinite(xy[:, 0])]
+    x, y = ds["outline_x"].values[0], ds["outline_y"].values[0]
+    radius = np.hypot(x, y)[np.isfinite(x)]
     zero_load = float(ds["area"].values[ds["phase"].values == int(Phase.PRELOAD)][-1])
-    assert math.pi * np.mean(np.hypot(xy[:, 0], xy[:, 1])) ** 2 == pytest.approx(zero_load, rel=0.03)
+    assert math.pi * np.mean(radius) ** 2 == pytest.approx(zero_load, rel=0.03)  # 2.2 % at this mesh
     state = ds.isel(step=-1).slip_state.values
     assert (state == SlipState.SLIP).any() and not (state == SlipState.STICK).any()
     c = SurfaceContact(result.mesh, p.adhesion, p.mesh.surface_gauss_points, far_gap=p.contact.far_gap)
