@@ -1,6 +1,7 @@
 """Small drivers for the bulk-only tests: Newton on a mesh with Dirichlet nodes."""
 
 import numpy as np
+import pytest
 
 from capslide.fem.assembly import BulkForm, Dirichlet, rigid_body_modes
 from capslide.params import lame_plane_strain
@@ -89,3 +90,22 @@ def pressed_sphere_state(model, shear: float = 0.0, seed: int = 0):
     u += 1e-3 * a.r0 * rng.normal(size=model.n_dofs)
     u[model.bc.dofs] = 0.0
     return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])
+
+
+def check_mixed_form_derivatives(form, mesh, amplitude: float, seed: int):
+    """A mixed bulk form at a random displacement of ``amplitude`` (a random multiplier if incompressible): its
+    condensed tangent against central differences of the residual, and the residual against the energy's gradient.
+    Returns that displacement."""
+    rng = np.random.default_rng(seed)
+    u = amplitude * rng.standard_normal(mesh.n_dofs)
+    m = form.Np.shape[-1]
+    multiplier = 0.3 * rng.standard_normal((mesh.n_cells, m)) if form.incompressible else None
+    f, data = form.residual_and_tangent_data(u, multiplier)
+    K = form.pattern.matrix(data)
+    du = rng.standard_normal(mesh.n_dofs)
+    h = 1e-6
+    fd = (form.residual(u + h * du, multiplier) - form.residual(u - h * du, multiplier)) / (2 * h)
+    np.testing.assert_allclose(K @ du, fd, rtol=1e-6, atol=1e-7 * np.abs(fd).max())
+    dW = (form.strain_energy(u + h * du, multiplier) - form.strain_energy(u - h * du, multiplier)) / (2 * h)
+    assert dW == pytest.approx(f @ du, rel=1e-6)
+    return u

@@ -13,6 +13,8 @@ from capslide.fem.hex_mesh import SphereCapSpec, box_mesh, sphere_cap_counts, sp
 from capslide.fem.mixed import MixedBulkForm
 from capslide.laws import material
 
+from fe_helpers import check_mixed_form_derivatives
+
 LAM, MU = 0.4 / (1.4 * 0.2), 1.0 / 2.8  # E = 1, nu = 0.4 (3D Lame constants)
 
 
@@ -44,17 +46,7 @@ def test_mean_dilatation_tangent_is_the_residual_derivative(distorted, lam):
     residual against the energy's gradient, and one dilatation per cell."""
     form = MixedBulkForm(distorted, lam, MU)
     assert form.Np.shape[-1] == 1
-    rng = np.random.default_rng(1)
-    u = 0.05 * rng.standard_normal(distorted.n_dofs)
-    multiplier = 0.3 * rng.standard_normal((distorted.n_cells, 1)) if np.isinf(lam) else None
-    f, data = form.residual_and_tangent_data(u, multiplier)
-    K = form.pattern.matrix(data)
-    du = rng.standard_normal(distorted.n_dofs)
-    h = 1e-6
-    fd = (form.residual(u + h * du, multiplier) - form.residual(u - h * du, multiplier)) / (2 * h)
-    np.testing.assert_allclose(K @ du, fd, rtol=1e-6, atol=1e-7 * np.abs(fd).max())
-    dW = (form.strain_energy(u + h * du, multiplier) - form.strain_energy(u - h * du, multiplier)) / (2 * h)
-    assert dW == pytest.approx(f @ du, rel=1e-6)
+    u = check_mixed_form_derivatives(form, distorted, 0.05, seed=1)
     theta = form.dilatation(u)
     np.testing.assert_allclose(theta, theta[:, :1] * np.ones_like(theta))  # constant in each cell
     J = material.det(form.deformation_gradient(u))
