@@ -108,3 +108,94 @@ def test_a_snap_that_the_leg_calls_vanishing_ends_it_detached(paper_config, monk
     res = run_case(_params(paper_config, "solver.snap_through=true"))
     assert res.status == Status.DETACHED and "the contact came off (forced)" in res.reason
     assert res.records[-1].ubar < 0.5
+
+
+def test_tangential_potential_is_the_return_maps_integral():
+    """psi(d) of laws.contact.tangential_potential: its derivative in d is the return map's traction magnitude
+    min(eps_t d, c), in stick, in slip and on both sides of the transition; psi is continuous there."""
+    from capslide.laws import contact
+
+    eps_t, rng = 50.0, np.random.default_rng(4)
+    c = rng.uniform(0.1, 2.0, 300)
+    d = np.concatenate([rng.uniform(0.0, 0.04, 100), rng.uniform(0.05, 1.0, 100),
+                        c[200:] / eps_t * (1.0 + rng.choice([-1e-3, 1e-3], 100))])
+    h = 1e-7
+    dpsi = (contact.tangential_potential(d + h, c, eps_t) - contact.tangential_potential(d - h, c, eps_t)) / (2 * h)
+    T, slipping, _, _ = contact.return_map(-eps_t * d, c)
+    assert slipping.any() and (~slipping).any()
+    np.testing.assert_allclose(dpsi, np.abs(T), rtol=1e-6, atol=1e-9)
+    at = c / eps_t
+    np.testing.assert_allclose(contact.tangential_potential(at, c, eps_t), 0.5 * c * c / eps_t, rtol=1e-14)
+
+
+def _sheared_sphere(shift: float):
+    """The coarse 3D sphere of tests/test_friction_3d.py with DI held at the step's start, pressed, anchored, then
+    sheared by ``shift`` at the top (stick below about 0.0016 L0, slip above)."""
+    from test_friction_3d import _model
+
+    from fe_helpers import pressed_sphere_state
+
+    model = _model(("mesh.element=H1", "friction.model=DI", "friction.threshold_at=step_start"))
+    x0 = pressed_sphere_state(model)
+    history = model.start_friction(x0)
+    x = x0.copy()
+    x[:-1:3] += shift * model.mesh.nodes[:, 2] / 10
+    x[1:-1:3] += 0.5 * shift * model.mesh.nodes[:, 2] / 10 * (model.mesh.nodes[:, 1] > 0)
+    x[model.bc.dofs] = 0.0
+    return model, x, history
+
+
+@pytest.mark.parametrize("shift", [0.0005, 0.01], ids=["stick", "slip"])
+def test_the_step_energy_gradient_is_the_residual(shift):
+    """CapModel.step_energy on the 3D half model with DI friction held at the step's start, under a spring and under
+    a force: its central differences along random directions equal energy_gradient(residual) . v (the u rows times
+    2, the constraint's row as it is). Without a potential (a fixed height, a threshold that follows the gap) it
+    is None."""
+    from capslide.model.constraints import FixedHeight, SlideAtForce, SlideOnSpring
+
+    model, x, history = _sheared_sphere(shift)
+    ubar = 1e-4
+    _, state = model.contact.tangential_state(x[:-1], x[-1], ubar, *history.friction)
+    assert (state == (1 if shift < 0.001 else 2)).sum() > 0
+    rng = np.random.default_rng(8)
+    for constraint in (SlideOnSpring(ubar, -0.1, x[-1] + 0.01, 3.0), SlideAtForce(ubar, 0.2)):
+        grad = model.energy_gradient(model.residual(x, constraint, history))
+        for _ in range(2):
+            v = 1e-3 * rng.normal(size=x.shape)
+            v[model.bc.dofs] = 0.0
+            h = 1e-4
+            fd = (model.step_energy(x + h * v, constraint, history)
+                  - model.step_energy(x - h * v, constraint, history)) / (2 * h)
+            assert fd == pytest.approx(grad @ v, rel=1e-6)
+    assert model.step_energy(x, FixedHeight(x[-1], ubar), history) is None
+    following = model.contact.threshold_at_step_start
+    model.contact.threshold_at_step_start = False
+    try:
+        assert model.step_energy(x, SlideAtForce(ubar, 0.2), history) is None
+    finally:
+        model.contact.threshold_at_step_start = following
+
+
+def test_the_snap_on_the_energy_passes_the_2d_caps_fold(paper_config, monkeypatch):
+    """The 2D test cap with DI held at the step's start at zero load: past the onset of full sliding its area jumps
+    and Newton fails at the minimum step at ubar = 2.17 L0 (docs/options.md); with snap_through the continuation on
+    the step's energy passes it (where the continuation by the residual ended at 2.2e-4 after 400 iterations), every
+    snap in fewer than 40 iterations, and the case completes to 2.2 L0."""
+    import capslide.loadpath.snap_through as snap
+
+    taken = []
+    on_the_energy = snap._on_the_energy
+
+    def counted(*args, **kwargs):
+        res = on_the_energy(*args, **kwargs)
+        taken.append(res)
+        return res
+
+    monkeypatch.setattr(snap, "_on_the_energy", counted)
+    p = Parameters.from_config(validate(apply_overrides(paper_config, [
+        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
+        "friction.threshold_at=step_start", "solver.snap_through=true", "output.snapshot_ubar=[]"])))
+    res = run_case(p)
+    assert res.status == Status.COMPLETED, res.reason
+    assert taken and all(t.converged and t.iterations < 40 for t in taken)
+    assert res.records[-1].ubar == pytest.approx(2.2)

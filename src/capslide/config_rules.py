@@ -29,7 +29,7 @@ def derive_from_maugis_lambda(config: dict) -> None:
         return
     if config["mesh"]["element"] not in SPHERE_ELEMENTS:
         raise ConfigError(f"adhesion.maugis_lambda = {lam!r} is not allowed with mesh.element = "
-                          f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1)")
+                          f"{config['mesh']['element']}: it is the sphere's Maugis parameter (mesh.element = H1 or H2)")
     mat, geo = config["material"], config["geometry"]
     K = 4.0 / 3.0 * mat["E"] / (1.0 - mat["nu"] ** 2)
     # lambda = 2 T_max (R / (pi W K^2))^(1/3), solved for T_max (laws.sphere.dugdale_stress_for_lambda; this layer
@@ -54,13 +54,13 @@ def _check_three_d(config: Mapping) -> None:
     if config["mesh"]["element"] not in SPHERE_ELEMENTS:
         if config["mesh"]["max_layer_aspect"] is not None:
             raise ConfigError(f"mesh.max_layer_aspect = {config['mesh']['max_layer_aspect']!r} is not allowed with "
-                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
+                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1 or H2)")
         if config["mesh"]["line_band"] is not None:
             raise ConfigError(f"mesh.line_band = {config['mesh']['line_band']!r} is not allowed with "
-                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
+                              f"mesh.element = {config['mesh']['element']}: it shapes the 3D sphere's mesh (H1 or H2)")
         if not config["mesh"]["symmetry_plane"]:
             raise ConfigError(f"mesh.symmetry_plane = False is not allowed with mesh.element = "
-                              f"{config['mesh']['element']}: it shapes the 3D sphere's mesh (H1)")
+                              f"{config['mesh']['element']}: it shapes the 3D sphere's mesh (H1 or H2)")
         return
     line = config["mesh"]["line_band"]
     if line is not None and not line[0] < line[1]:

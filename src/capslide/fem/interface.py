@@ -297,6 +297,23 @@ class SurfaceContact:
             phi = np.maximum(phi - contact.normal_potential(a.g_eq, a.T0, a.r0, a.g_reg, self.far_gap), 0.0)
         return self.whole(float(np.sum(phi * W))) if not self.normal_per_current_area else float("nan")
 
+    def friction_energy(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,
+                        thresholds: np.ndarray | None) -> float:
+        """The friction's potential over a step whose thresholds are held at its start (``thresholds``), sum of
+        psi(|tangential gap|) dA on the active segments' points (:func:`capslide.laws.contact.tangential_potential`;
+        E L0^2 per unit width, in 3D E L0^3, the whole body's): its gradient is the negative of the friction forces
+        of :meth:`force`. 0 without friction; NaN where the threshold follows the state (no such potential)."""
+        if not self.friction_active(anchors):
+            return 0.0
+        if thresholds is None or self.weakening is not None or not self.threshold_at_step_start:
+            return float("nan")
+        x, _ = self.quad.current(u)
+        act = self.active(h - x[..., self.vertical])
+        gap = self._in_plane(x[act], ubar) - anchors[act]
+        d = np.linalg.norm(gap, axis=-1) if self.dim == 3 else gap
+        psi = contact.tangential_potential(d, thresholds[act], self.eps_t)
+        return self.whole(float(np.sum(psi * self.quad.weight[act])))
+
     # -- friction history ---------------------------------------------------
     def _in_plane(self, x: np.ndarray, ubar: float) -> np.ndarray:
         """Positions in the substrate's frame: x - ubar (s, g) in 2D, (x - ubar, y) (s, g, 2) in 3D."""

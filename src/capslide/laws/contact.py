@@ -22,6 +22,7 @@ __all__ = [
     "ea_threshold",
     "return_map",
     "vector_return_map",
+    "tangential_potential",
 ]
 
 
@@ -185,3 +186,14 @@ def weakening_return_map(T_trial, kinetic, slip, ratio, D_c, eps_t):
     dT_dtrial = np.where(slipping, np.where(weakening, -c * kinetic / safe, 0.0), 1.0)
     dT_dkinetic = np.where(slipping, sign * np.where(weakening, (m - c * mag) / safe**2, 1.0), 0.0)
     return T, slipping, dT_dtrial, dT_dkinetic
+
+
+def tangential_potential(slip_gap, threshold, eps_t: float):
+    """Energy per reference area (E L0) of the penalty return map over one step with its threshold held fixed: the
+    Huber function of the tangential gap's length d = |x - anchor - ubar| (L0) with the stick penalty ``eps_t``
+    (E / L0) and the threshold c (E), psi = eps_t d^2 / 2 in stick (eps_t d <= c), c d - c^2 / (2 eps_t) in slip.
+    dpsi/dd = min(eps_t d, c) is the magnitude of :func:`return_map`'s and :func:`vector_return_map`'s traction, so
+    the step's friction forces are the negative gradient of its integral (loadpath.snap_through's merit function).
+    Slip weakening and a threshold that follows the gap have no such potential."""
+    d, c = np.abs(np.asarray(slip_gap, dtype=float)), np.asarray(threshold, dtype=float)
+    return np.where(eps_t * d <= c, 0.5 * eps_t * d * d, c * d - c * c / (2.0 * eps_t))

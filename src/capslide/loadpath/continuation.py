@@ -129,6 +129,7 @@ def newton_options(model: CapModel) -> NewtonOptions:
     return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations)
 
 
+SNAP_HANDOVER = 1e-6  # the fall of the residual at which a snap's continuation first hands over to Newton
 MAX_UZAWA = 30  # Uzawa updates of the pressure multiplier per step (nu = 0.5) before the step counts as failed
 
 
@@ -215,12 +216,22 @@ def _solved_step(model: CapModel, loop: Loop, leg: Leg, history: History, target
 def _snapped_through(model: CapModel, loop: Loop, leg: Leg, history: History, target: float, opts: NewtonOptions,
                      dt: float, constraint) -> tuple[NewtonResult, History]:
     """The step to ``target`` by pseudo-transient continuation from the last state, then Newton from where it
-    hands over (``solver.snap_through``, :mod:`capslide.loadpath.snap_through`)."""
-    transient = pseudo_transient(model, constraint, history, loop.x, dt, PseudoTransient(handover=max(opts.atol, opts.rtol)))
+    hands over (``solver.snap_through``, :mod:`capslide.loadpath.snap_through`): once the residual has fallen by
+    SNAP_HANDOVER; where Newton fails from there, the continuation goes on to Newton's tolerance first."""
+    tol = max(opts.atol, opts.rtol)
+    early = PseudoTransient(handover=tol, relative_handover=SNAP_HANDOVER)
+    transient = pseudo_transient(model, constraint, history, loop.x, dt, early)
     if not transient.converged:
         return transient, history
     res, solved = solve_constrained(model, constraint, history, transient.x, opts, dt)
-    return _after(transient, res), solved
+    if res.converged or transient.residual_norms[-1] <= tol:
+        return _after(transient, res), solved
+    spent = _after(transient, res)
+    rest = _after(spent, pseudo_transient(model, constraint, history, transient.x, dt, PseudoTransient(handover=tol)))
+    if not rest.converged:
+        return rest, history
+    res, solved = solve_constrained(model, constraint, history, rest.x, opts, dt)
+    return _after(rest, res), solved
 
 
 def _snap_outcome(leg: Leg, aim: _Aim, rec: StepRecord | None, res: NewtonResult, failed: LegEnd,

@@ -14,6 +14,10 @@ is evaluated (L0; zero except while sliding). Adding a way to load the cap means
   control, k -> infinity fixes h = h*)
 
 A slide at a fixed height is ``FixedHeight(h, ubar)``.
+
+The force-controlled constraints also give ``potential(h)``, the load's part of the step's energy (E L0^2; 3D
+E L0^3), whose derivative in h is G - Fn: with the contact's energy, whose derivative in h is Fn, the row G is that
+energy's gradient in h (loadpath.snap_through's merit function). The others have none.
 """
 
 from __future__ import annotations
@@ -56,7 +60,10 @@ class FixedHeight:
 
 
 class _ForceControl:
-    """G = Fn - F*: the border is the contact force's own linearization."""
+    """G = Fn - F*: the border is the contact force's own linearization; the load's potential is -F* h."""
+
+    def potential(self, h: float) -> float:
+        return -self.Fn * h
 
     def residual(self, model, x, Fn):
         return Fn - self.Fn
@@ -116,6 +123,9 @@ class SlideOnSpring(_ForceControl):
 
     def residual(self, model, x, Fn):
         return Fn - self.Fn + self.k * (float(x[-1]) - self.h)
+
+    def potential(self, h: float) -> float:
+        return -self.Fn * h + 0.5 * self.k * (h - self.h) ** 2
 
     def border(self, model, x, lin):
         d, e = super().border(model, x, lin)

@@ -278,6 +278,26 @@ class CapModel:
         I1 = self.bulk.cell_first_invariant(x[:-1], history.pressure)
         return I1 if self.branches is None else I1 + self.branches.cell_first_invariant(x[:-1], history.networks, 0.0)
 
+    def step_energy(self, x: np.ndarray, constraint, history: History) -> float | None:
+        """The potential of a step's equations from ``history`` (E L0^2 per unit width; 3D E L0^3, the whole
+        body's): the bulk's energy, the adhesion's, the friction's with its thresholds held at the step's start, and
+        the load's (``constraint.potential``). Its gradient is the residual with the u rows times the half model's
+        multiplicity (:meth:`energy_gradient`). None where the step has none: a constraint without a potential, a
+        viscoelastic bulk, theta_k = J_s, or friction whose threshold follows the state or weakens."""
+        potential = getattr(constraint, "potential", None)
+        if potential is None or self.branches is not None or self.contact.normal_per_current_area:
+            return None
+        u, h = self.split(x)
+        friction = self.contact.friction_energy(u, h, constraint.ubar, history.anchors, history.thresholds)
+        if not np.isfinite(friction):
+            return None
+        return self.strain_energy(x, history) + self.contact.adhesion_energy(u, h) + friction + potential(h)
+
+    def energy_gradient(self, r: np.ndarray) -> np.ndarray:
+        """The gradient of :meth:`step_energy` from the residual r = [R(u), G] at the same state: R is the modelled
+        part's (a half model's: times 2), G the whole body's."""
+        return np.concatenate([self.contact.multiplicity * r[:-1], r[-1:]])
+
     def strain_energy(self, x: np.ndarray, history: History, dt: float = 0.0) -> float:
         """The bulk's stored energy per unit width (E L0^2; in 3D E L0^3, the whole body's) at the end of a step of
         dt seconds from ``history``: the elastic part and the viscous branches'."""
