@@ -92,6 +92,21 @@ def pressed_sphere_state(model, shear: float = 0.0, seed: int = 0):
     return np.concatenate([u, [10.0 + 0.3 * a.r0 + 0.9 * a.g_eq]])
 
 
+def check_bulk_form_derivatives(form, n_dofs: int, amplitude: float, seed: int):
+    """A displacement bulk form at a random displacement of ``amplitude``: its tangent against central differences
+    of the residual, and the residual against the energy's gradient. Returns (u, du, tangent)."""
+    rng = np.random.default_rng(seed)
+    u = amplitude * rng.standard_normal(n_dofs)
+    f, K = form.residual_and_tangent(u)
+    du = rng.standard_normal(n_dofs)
+    h = 1e-6
+    fd = (form.residual(u + h * du) - form.residual(u - h * du)) / (2 * h)
+    np.testing.assert_allclose(K @ du, fd, rtol=1e-6, atol=1e-8 * np.abs(fd).max())
+    dW = (form.strain_energy(u + h * du) - form.strain_energy(u - h * du)) / (2 * h)
+    assert dW == pytest.approx(f @ du, rel=1e-6)  # the internal force is the energy's gradient
+    return u, du, K
+
+
 def check_mixed_form_derivatives(form, mesh, amplitude: float, seed: int):
     """A mixed bulk form at a random displacement of ``amplitude`` (a random multiplier if incompressible): its
     condensed tangent against central differences of the residual, and the residual against the energy's gradient.
