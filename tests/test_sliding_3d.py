@@ -234,3 +234,6 @@ def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, 
     slide = ds.isel(step=np.flatnonzero(ds.phase.values == Phase.SLIDE))
     assert c["outcome"] == outcome
     assert c["Ft_end"] == pytest.approx(float(slide.Ft[-1]) * 2.0e6 * 1e-12 * 1e3, rel=1e-12)
+    A0 = float(ds.area[np.flatnonzero(ds.phase.values == Phase.PRELOAD)[-1]])
+    assert c["ubar_end"] == pytest.approx(float(slide.ubar[-1]), rel=1e-12)  # L0 = 1 um
+    assert c["area_end_pct"] == pytest.approx(100 * float(slide.area[-1]) / A0, rel=1e-12)

@@ -16,7 +16,9 @@ by a face, on one side of the jump); ``Fn0``, its normal load (compressive > 0, 
 (the x extent over the y width); ``travel_to_peak`` (the stage's travel, um) and ``t_peak`` = travel / v;
 ``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there) or ``vanished`` (the
 contact came off, at ``Ft_end`` = the last Ft), ``stopped`` (the slide found no equilibrium on: a fold, or no
-convergence at the smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide).
+convergence at the smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide);
+``ubar_end`` (um) and ``area_end_pct`` (A / A0, %) at the slide's last converged step: how much contact a
+``vanished`` case had left where its slide ended.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from ..states import Phase
 __all__ = ["TABLE_COLUMNS", "study_cases", "normal_states", "case_name", "preload_guess", "features", "read_cases",
            "window"]
 TABLE_COLUMNS = ["case", "lambda", "status", "A0_target", "A0", "Fn0", "peak_Ft", "Ft_over_A_at_peak", "area_loss_pct",
-                 "extent_ratio_at_peak", "travel_to_peak", "t_peak", "outcome", "Ft_end"]
+                 "extent_ratio_at_peak", "travel_to_peak", "t_peak", "outcome", "Ft_end", "ubar_end", "area_end_pct"]
 
 
 def case_name(area_mm2: float, lam: float | None = None) -> str:
@@ -123,6 +125,8 @@ def features(path: Path) -> dict:
     c.update(peak, case=Path(path).stem, status=status, A0=A0, A0_target=math.nan if target is None else target * mm2,
              Fn0=-float(ds["Fn"].values[start]) * mN,
              outcome=outcome, Ft_end=Ft_end, v=v, path=str(path),
+             ubar_end=float(c["ubar"][-1]) if len(slide) else math.nan,
+             area_end_pct=100.0 * float(c["area"][-1]) / A0 if len(slide) else math.nan,
              **{"lambda": float(config["adhesion"]["maugis_lambda"] or math.nan)})
     ds.close()
     return c
