@@ -100,7 +100,8 @@ def test_a_snap_from_a_peeling_contact_to_a_grown_one_is_its_coming_off():
 
 def test_a_snap_that_the_leg_calls_vanishing_ends_it_detached(paper_config, monkeypatch):
     """With snap_through, a snapped-through step for which the leg's ``vanishes`` gives a reason ends the case
-    detached at the state before it, with that reason."""
+    detached at the state before it, with that reason; with ``loading.readhesion_snap: follow`` the slide goes on
+    past it to ubar_max."""
     import capslide.loadpath.slide_rules as rules
 
     _failing_across(monkeypatch, 0.5, converged=False)
@@ -108,6 +109,9 @@ def test_a_snap_that_the_leg_calls_vanishing_ends_it_detached(paper_config, monk
     res = run_case(_params(paper_config, "solver.snap_through=true"))
     assert res.status == Status.DETACHED and "the contact came off (forced)" in res.reason
     assert res.records[-1].ubar < 0.5
+    followed = run_case(_params(paper_config, "solver.snap_through=true", "loading.readhesion_snap=follow"))
+    assert followed.status == Status.COMPLETED, followed.reason
+    assert followed.records[-1].ubar == pytest.approx(1.0)
 
 
 def test_tangential_potential_is_the_return_maps_integral():

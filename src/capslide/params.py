@@ -191,6 +191,7 @@ class Loading:
     max_slide_step: float  # L0
     min_slide_step: float  # L0
     stop_at_onset: bool = False  # end the slide at the onset of full sliding
+    readhesion_snap: str = "end"  # a snap from a peeling to a re-adhered contact: end (detached) or follow
     slide_back: bool = False  # after ubar_max, slide back to ubar = 0
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
     preload_via: tuple[float, ...] = ()  # E L0: forces the preload lands on when it passes them
@@ -325,6 +326,7 @@ class Parameters:
             retract_from=float(load["retract_from"]),
             slide_step=float(load["slide_step"]), max_slide_step=float(load["max_slide_step"]),
             min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
+            readhesion_snap=load["readhesion_snap"],
             slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
             normal_control=load["normal_control"],
             spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / spring_unit(config),

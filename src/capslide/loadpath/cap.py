@@ -307,6 +307,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
         state.onset_ceiling = math.nan
     detached = lambda rec: Status.DETACHED if rec.area < _min_area(model) else None  # noqa: E731
     forward = name == LegName.SLIDE
+    regrowth = slide_rules.regrowth_check(state) if model.params.loading.readhesion_snap == "end" else None
     rejects = either(onset_check(state, control.minimum) if forward else None,
                       snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
     direction = 1.0 if end >= start else -1.0
@@ -323,8 +324,7 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     steps = continuation(model, state.loop, state.history,
                          Leg(constraint, end, control, Phase.SLIDE, name,
                              ends=detached, step_limit=step_limit, rejects=rejects, steady=steady,
-                             seconds_per_unit=seconds_per_unit(model), stick_first=True,
-                             vanishes=slide_rules.regrowth_check(state)))
+                             seconds_per_unit=seconds_per_unit(model), stick_first=True, vanishes=regrowth))
     return (yield from _run(model, state, steps, after))
 
 
