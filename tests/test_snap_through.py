@@ -44,6 +44,29 @@ def test_pseudo_transient_continuation_reaches_the_equilibrium(paper_config):
     assert not short.converged and "after 2 iterations" in short.reason
 
 
+def test_a_fixed_height_step_snaps_through_on_its_energy(paper_config, monkeypatch):
+    """At a fixed height the continuation runs on the step's energy in u (FixedHeight.potential, .project): from the
+    normal state at zero load with every displacement 20 % larger and the substrate 1e-3 L0 off its height, it
+    returns to the equilibrium within 1e-6 L0, on the energy, which is only ever taken at h = h*."""
+    import capslide.loadpath.snap_through as snap
+    from capslide.model.constraints import FixedHeight
+
+    p = _params(paper_config, "loading.ubar_max=0")
+    res = run_case(p)
+    model, x_star = build_model(p), res.final_x
+    x0 = x_star.copy()
+    x0[:-1] *= 1.2
+    x0[-1] += 1e-3
+    on_the_energy, taken = snap._on_the_energy, []
+    monkeypatch.setattr(snap, "_on_the_energy", lambda *a, **k: taken.append(on_the_energy(*a, **k)) or taken[-1])
+    step_energy, heights = model.step_energy, []
+    monkeypatch.setattr(model, "step_energy", lambda x, *a: heights.append(x[-1]) or step_energy(x, *a))
+    out = pseudo_transient(model, FixedHeight(float(x_star[-1])), History(), x0, settings=PseudoTransient(handover=1e-10))
+    assert taken and out.converged and out.iterations > 1
+    assert len(heights) > 2 and set(heights[1:]) == {x_star[-1]}  # the first: whether the step has an energy
+    np.testing.assert_allclose(out.x, x_star, atol=1e-6)
+
+
 def _failing_across(monkeypatch, ubar, converged):
     """Slide steps across ``ubar`` come back failed (not converged), or converged but rejected as if the area had
     jumped (``converged``)."""
@@ -152,9 +175,9 @@ def _sheared_sphere(shift: float):
 @pytest.mark.parametrize("shift", [0.0005, 0.01], ids=["stick", "slip"])
 def test_the_step_energy_gradient_is_the_residual(shift):
     """CapModel.step_energy on the 3D half model with DI friction held at the step's start, under a spring and under
-    a force: its central differences along random directions equal energy_gradient(residual) . v (the u rows times
-    2, the constraint's row as it is). Without a potential (a fixed height, a threshold that follows the gap) it
-    is None."""
+    a force, and at a fixed height along directions that keep h: its central differences along random directions
+    equal energy_gradient(residual) . v (the u rows times 2, the constraint's row as it is). Without a potential
+    (a threshold that follows the gap) it is None."""
     from capslide.model.constraints import FixedHeight, SlideAtForce, SlideOnSpring
 
     model, x, history = _sheared_sphere(shift)
@@ -162,16 +185,17 @@ def test_the_step_energy_gradient_is_the_residual(shift):
     _, state = model.contact.tangential_state(x[:-1], x[-1], ubar, *history.friction)
     assert (state == (1 if shift < 0.001 else 2)).sum() > 0
     rng = np.random.default_rng(8)
-    for constraint in (SlideOnSpring(ubar, -0.1, x[-1] + 0.01, 3.0), SlideAtForce(ubar, 0.2)):
+    for constraint in (SlideOnSpring(ubar, -0.1, x[-1] + 0.01, 3.0), SlideAtForce(ubar, 0.2), FixedHeight(x[-1], ubar)):
         grad = model.energy_gradient(model.residual(x, constraint, history))
         for _ in range(2):
             v = 1e-3 * rng.normal(size=x.shape)
             v[model.bc.dofs] = 0.0
+            if isinstance(constraint, FixedHeight):
+                v[-1] = 0.0
             h = 1e-4
             fd = (model.step_energy(x + h * v, constraint, history)
                   - model.step_energy(x - h * v, constraint, history)) / (2 * h)
             assert fd == pytest.approx(grad @ v, rel=1e-6)
-    assert model.step_energy(x, FixedHeight(x[-1], ubar), history) is None
     following = model.contact.threshold_at_step_start
     model.contact.threshold_at_step_start = False
     try:

@@ -7,7 +7,8 @@ iteration solves (J + sigma D) dx = r, with D the tangent's diagonal at the star
 the first iterations crawl down a damped path and the last ones are Newton's. How sigma moves:
 
 * **on the step's energy** where the step has one (:meth:`capslide.model.system.CapModel.step_energy`: a force
-  or spring load, an elastic bulk, and friction with its threshold held at the step's start): an iterate is
+  or spring load, or a fixed height, where h is held at h*; an elastic bulk, and friction with its threshold held
+  at the step's start): an iterate is
   taken only if it lowers that energy by Armijo's rule (x - alpha dx, alpha = 1, 1/4, 1/16, 1/64), else sigma grows
   fourfold; a full step lets sigma fall threefold. The constraint's row is shifted too (sigma |e|), so that the
   shifted system is the Hessian of a convex-ish model of the energy and dx a descent direction. This is
@@ -82,6 +83,8 @@ def _on_the_energy(model: CapModel, constraint, history: History, x0: np.ndarray
                    settings: PseudoTransient) -> NewtonResult:
     """Levenberg-Marquardt on the step's energy (the module's docstring)."""
     energy = lambda x: model.step_energy(x, constraint, history)  # noqa: E731
+    project = getattr(constraint, "project", _as_is)  # a fixed height: h held at h*, where the energy is taken
+    x0 = project(x0)
     r, bordered = model.linearize(x0, constraint, history)
     damping = sp.diags(np.abs(bordered.K.diagonal()))
     e_damping = abs(float(bordered.e)) or 1.0
@@ -96,7 +99,7 @@ def _on_the_energy(model: CapModel, constraint, history: History, x0: np.ndarray
             return NewtonResult(x, False, it, f"linear solve failed: {err}", norms, krylov)
         krylov += iterations
         slope = -float(model.energy_gradient(r) @ dx)  # dE/dalpha along -dx
-        taken = _armijo(model, constraint, history, energy, x, E, dx, slope, r_norm) if slope < 0.0 else None
+        taken = _armijo(model, constraint, history, energy, x, E, dx, slope, r_norm, project) if slope < 0.0 else None
         if taken is None:
             sigma *= 4.0
             if sigma > settings.largest_shift:
@@ -114,13 +117,17 @@ def _on_the_energy(model: CapModel, constraint, history: History, x0: np.ndarray
                         f"residual {r_norm:.3e} after {settings.max_iterations} iterations", norms, krylov)
 
 
+def _as_is(x: np.ndarray) -> np.ndarray:
+    return x
+
+
 def _armijo(model: CapModel, constraint, history: History, energy, x: np.ndarray, E: float, dx: np.ndarray,
-            slope: float, r_norm: float) -> tuple[float, np.ndarray, float] | None:
-    """The first of x - alpha dx (alpha in STEP_FRACTIONS) that is admissible and lowers the energy by ARMIJO times
-    the linear decrease, or, where the energies differ by round-off only, lowers the residual; (alpha, x, E) or
-    None."""
+            slope: float, r_norm: float, project=_as_is) -> tuple[float, np.ndarray, float] | None:
+    """The first of x - alpha dx (alpha in STEP_FRACTIONS, then ``project``ed) that is admissible and lowers the
+    energy by ARMIJO times the linear decrease, or, where the energies differ by round-off only, lowers the residual;
+    (alpha, x, E) or None."""
     for alpha in STEP_FRACTIONS:
-        x_try = x - alpha * dx
+        x_try = project(x - alpha * dx)
         if not (np.all(np.isfinite(x_try)) and model.admissible(x_try)):
             continue
         E_try = energy(x_try)

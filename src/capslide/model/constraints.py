@@ -17,7 +17,9 @@ A slide at a fixed height is ``FixedHeight(h, ubar)``.
 
 The force-controlled constraints also give ``potential(h)``, the load's part of the step's energy (E L0^2; 3D
 E L0^3), whose derivative in h is G - Fn: with the contact's energy, whose derivative in h is Fn, the row G is that
-energy's gradient in h (loadpath.snap_through's merit function). The others have none.
+energy's gradient in h (loadpath.snap_through's merit function). ``FixedHeight`` gives a potential of 0 and
+``project(x)``, the state at h = h*: its step's energy is the displacements' at that height. The gap controls have
+none.
 """
 
 from __future__ import annotations
@@ -57,6 +59,17 @@ class FixedHeight:
 
     def border(self, model, x, lin):
         return _unit_border(model)
+
+    def potential(self, h: float) -> float:
+        """The load does no work at a fixed height: the step's energy is the displacements' at h = h*, over the
+        states :meth:`project` gives."""
+        return 0.0
+
+    def project(self, x: np.ndarray) -> np.ndarray:
+        """x with the substrate at h*, where the step's energy is taken."""
+        y = np.array(x, dtype=float)
+        y[-1] = self.h
+        return y
 
 
 class _ForceControl:

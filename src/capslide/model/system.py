@@ -282,8 +282,9 @@ class CapModel:
         """The potential of a step's equations from ``history`` (E L0^2 per unit width; 3D E L0^3, the whole
         body's): the bulk's energy, the adhesion's, the friction's with its thresholds held at the step's start, and
         the load's (``constraint.potential``). Its gradient is the residual with the u rows times the half model's
-        multiplicity (:meth:`energy_gradient`). None where the step has none: a constraint without a potential, a
-        viscoelastic bulk, theta_k = J_s, or friction whose threshold follows the state or weakens."""
+        multiplicity (:meth:`energy_gradient`); at a fixed height, in u at h = h*. None where the step has none: a
+        constraint without a potential, a viscoelastic bulk, theta_k = J_s, or friction whose threshold follows the
+        state or weakens."""
         potential = getattr(constraint, "potential", None)
         if potential is None or self.branches is not None or self.contact.normal_per_current_area:
             return None
