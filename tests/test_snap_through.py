@@ -101,6 +101,25 @@ def test_a_slide_passes_a_step_that_fails_at_the_minimum_step(paper_config, monk
     slide = [r for r in snapping.records if r.phase == Phase.SLIDE]
     assert any(0.5 < r.ubar < 0.5 + 1e-3 for r in slide) and slide[-1].ubar == pytest.approx(1.0)
     assert plain.records[-1].ubar < 0.5
+    assert [r.ubar for r in snapping.records if r.snapped] == [min(r.ubar for r in slide if r.ubar > 0.5)]
+    assert not any(r.snapped for r in plain.records)
+
+
+def test_a_snaps_end_state_is_never_the_onset_of_full_sliding():
+    """measures.sliding_onset: a snapped-through step with no sticking point (the experiment's re-adhering snaps,
+    whose new points carry no threshold in the step) is not the onset; the first quasi-static step with none is."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.measures import sliding_onset
+    from capslide.states import SlipState
+
+    def rec(ubar, stick, snapped=False):
+        states = [SlipState.STICK] * stick + [SlipState.SLIP] * 3
+        return SimpleNamespace(phase=Phase.SLIDE, ubar=ubar, Ft=ubar, area=1.0, snapped=snapped,
+                               slip_state=np.array(states))
+
+    onset = sliding_onset([rec(0.5, 2), rec(0.6, 0, snapped=True), rec(0.7, 1), rec(0.8, 0), rec(0.9, 0)])
+    assert onset["onset_ubar"] == 0.8
 
 
 def test_a_snap_from_a_peeling_contact_to_a_grown_one_is_its_coming_off():

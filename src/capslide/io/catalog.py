@@ -107,6 +107,10 @@ VARIABLES = (
              "1: the step went in one to the next snapshot ubar or the leg's end, the sliding being steady (Ft, area "
              "and gaps unchanged to 1e-8 over the steps before and over it); 0: a step of the adaptive step control",
              "steady_step", True, dtype="int8"),
+    Variable("snapped", STEP, "1", "snapped-through step",
+             "1: the step was passed by pseudo-transient continuation, or stood as a jump of the contact area at the "
+             "smallest step (solver.snap_through): a jump of the state, not a quasi-static step; 0: otherwise",
+             "snapped", True, dtype="int8"),
     Variable("base_force_x", STEP, "force", "base force x",
              "x force of the clamped base on the cap; force balance: Ft + base_force_x = 0", "reaction", True),
     Variable("base_force_y", STEP, "force", "base force y",

@@ -161,6 +161,7 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
         kw["newton_iterations"] = int(kw["newton_iterations"])
         kw["krylov_iterations"] = int(kw["krylov_iterations"])
         kw["steady_step"] = bool(kw.get("steady_step", 0.0))
+        kw["snapped"] = bool(kw.get("snapped", 0.0))
         kw.update({name: data[name][i] for name in RECORD_PROFILES if name in data})  # older files: no y parts
         out.append(StepRecord(**kw))
     return out

@@ -25,7 +25,7 @@ __all__ = ["SavedStateMismatch", "BadField", "check_header", "check_arrays", "ch
 
 PATH_ARRAYS = ("x", "loop_x", "loop_x_prev", "anchors", "accumulated_slip", "frozen_thresholds", "pressure_multiplier",
                "viscous_networks", "viscous_c_inv")
-INTEGER_SCALARS = ("phase", "newton_iterations", "krylov_iterations", "steady_step")
+INTEGER_SCALARS = ("phase", "newton_iterations", "krylov_iterations", "steady_step", "snapped")
 
 
 class SavedStateMismatch(ValueError):
@@ -174,7 +174,7 @@ def check_record_arrays(data: Mapping[str, np.ndarray], where: str = "") -> int:
     n = None
     for name in RECORD_SCALARS:
         if name not in data:
-            if name in ("time", "steady_step"):  # older files
+            if name in ("time", "steady_step", "snapped"):  # older files
                 continue
             raise BadField(f"{where}{name}", "is missing")
         a = data[name]

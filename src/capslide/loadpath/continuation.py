@@ -254,7 +254,7 @@ def _judged(model: CapModel, loop: Loop, leg: Leg, res: NewtonResult, solved: Hi
     if not res.converged:
         return None, res.reason, False
     rec = measure(model, res.x, solved, leg.phase, constraint.ubar, res.iterations, res.linear_iterations, wall, dt)
-    rec.steady_step = aim.long_step
+    rec.steady_step, rec.snapped = aim.long_step, snapped
     still_steady = leg.steady is not None and leg.steady(rec, loop.x)
     rejected = leg.rejects(rec) if leg.rejects is not None and not snapped else None
     if rejected is None and aim.long_step and not still_steady:

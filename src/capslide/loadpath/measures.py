@@ -55,6 +55,7 @@ class StepRecord:
     slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # the anchors' move in the step (L0)
     time: float = 0.0  # s, at the end of the step (0 throughout when quasi-static)
     steady_step: bool = False  # taken in one as steady sliding, to the next breakpoint or the leg's end
+    snapped: bool = False  # a step passed by snap-through (solver.snap_through): a jump, not a quasi-static step
     width_y: float = math.nan  # 3D: the contact's width along y, the whole body's (L0); NaN in 2D
     traction_t_y: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # 3D: T_t's y part; 2D: empty
     slip_y: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)  # 3D: the anchors' y move; 2D: empty
@@ -195,8 +196,11 @@ def interval_measures(x: np.ndarray, v: np.ndarray) -> tuple[float, float, float
 
 
 def fully_sliding(rec: StepRecord) -> bool:
-    """A slide step with contact and no sticking point (docs/theory.md section 5: the onset test)."""
-    return rec.phase == Phase.SLIDE and rec.ubar != 0.0 and rec.area > 0.0 and not np.any(rec.slip_state == SlipState.STICK)
+    """A slide step with contact and no sticking point (docs/theory.md section 5: the onset test), not a snap's end
+    state: with the thresholds held at a step's start, the points a snap brought into contact carry none in its
+    step, and slip (the experiment's re-adhering snaps, docs/experiment3d.md)."""
+    return (rec.phase == Phase.SLIDE and rec.ubar != 0.0 and rec.area > 0.0 and not rec.snapped
+            and not np.any(rec.slip_state == SlipState.STICK))
 
 
 def sliding_onset(records: list[StepRecord]) -> dict[str, float]:
