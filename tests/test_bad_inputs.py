@@ -153,7 +153,8 @@ COMMAND_LINES = [  # (argv after "capslide", words of the one-line message); {t}
     (["verify", "{c}", "-o", "{t}/v.csv"], ["verification.loads is empty"]),
     (["verify", "{c}", "--scene", "hertz", "-o", "{t}/v.csv"], ["--scene = 'hertz'", "repulsion_only = False", "jkr scene"]),
     (["verify", "{c}", "--scene", "dmt", "-o", "{t}/v.csv"],
-     ["scene = 'dmt'", "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_hertz, sphere_md3, sphere_md5)"]),
+     ["scene = 'dmt'", "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_dugdale3, sphere_hertz, sphere_md3, "
+     "sphere_md5)"]),
     (["stability", "{t}/absent.yaml", "{c}", "--cases", "{t}", "-o", "{t}/s.md"], ["absent.yaml"]),
     (["convergence", "{c}", "--cases", "{t}", "-o", "{t}/c.md"], ["config.yaml", "unknown key 'adhesion'"]),
 ]

@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from capslide.config import load_config, scene_path
+from capslide.laws.normal import CGCMLaw
 from capslide.params import Parameters, cgcm_constants
 from capslide.studies import halfspace_sphere
 from capslide.studies.halfspace_sphere import (
     SphereOnHalfSpace,
-    cgcm_traction,
+    cut_traction,
     disk_displacement,
     pull_off,
     ring_influence,
@@ -71,7 +72,7 @@ def test_a_stiff_sphere_pulls_off_at_bradleys_force():
     is then g_eq, and its radius the edge gap's sqrt(2 R (g_max - g_eq))."""
     R, W, T_max = 100.0, 0.0135, 0.015
     c = cgcm_constants(T_max, W)
-    traction = cgcm_traction(c["T0"], c["r0"], c["g_eq"], np.inf)
+    traction = cut_traction(CGCMLaw(c["T0"], c["r0"], c["g_eq"]), np.inf)
     halfspace = SphereOnHalfSpace(traction, R, 3000.0, 150.0, 0.2, c["g_max"], profile="paraboloid")
     P_c, a_c = pull_off(halfspace.edge_path(np.arange(1.0, 10.0, 0.5)))
     assert P_c == pytest.approx(-2.0 * math.pi * W * R, rel=1e-3)

@@ -17,7 +17,8 @@ from conftest import ROOT, default_sigint
 
 def test_the_paper_study_is_a_packaged_scene_from_any_folder(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert scenes() == ["cap", "experiment", "hertz", "jkr", "sphere", "sphere_hertz", "sphere_md3", "sphere_md5"]
+    assert scenes() == ["cap", "experiment", "hertz", "jkr", "sphere", "sphere_dugdale3", "sphere_hertz", "sphere_md3",
+                        "sphere_md5"]
     config = capslide.load_config("cap", preset="fast")
     assert config == load_config([ROOT / "config" / "config.yaml"], ["preset=fast"])
     assert config["mesh"]["size"] == 32.0 and config["study"]["preloads"] == [-0.288, 0.0, 0.288]
@@ -38,8 +39,8 @@ def test_a_scene_case_runs_from_outside_the_clone(tmp_path):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--scene", "capp"], "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_hertz, sphere_md3, "
-                          "sphere_md5); did you mean 'cap'?"),
+    (["--scene", "capp"], "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_dugdale3, sphere_hertz, "
+                          "sphere_md3, sphere_md5); did you mean 'cap'?"),
     ([], "no configuration: give a config file or a packaged scene"),
     (["--scene", "cap", "--set", "friction.s_cutt=1"], "did you mean 'friction.s_cut'?"),
 ])

@@ -121,6 +121,14 @@ def _check_no_op_keys(config: Mapping) -> None:
     if fr["threshold_at"] != "current" and fr["model"] == "none":
         raise ConfigError(f"friction.threshold_at = {fr['threshold_at']!r} is not allowed with friction.model = none: "
                           "there is no threshold")
+    adh = config["adhesion"]
+    for key, default in (("dugdale_ramp", 0.8), ("dugdale_penalty", 0.005)):
+        if adh[key] != default and adh["law"] != "dugdale":
+            raise ConfigError(f"adhesion.{key} = {adh[key]!r} is not allowed with adhesion.law = {adh['law']}: it "
+                              "shapes the Dugdale law")
+    if adh["law"] == "dugdale" and fr["model"] != "none":
+        raise ConfigError(f"friction.model = {fr['model']} is not allowed with adhesion.law = dugdale: the Dugdale "
+                          "law is a frictionless verification law (model EA's threshold is the CGCM traction's)")
     if load["dwell"] > 0.0 and load["velocity"] is None:
         raise ConfigError(f"loading.dwell = {load['dwell']!r} is not allowed with loading.velocity = None: a dwell is "
                           "time at rest, and a quasi-static path has no time (give the stage's speed, m/s)")

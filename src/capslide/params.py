@@ -105,6 +105,9 @@ class Adhesion:
     T_max: float
     W_adh: float  # E L0
     g_reg: float
+    law: str = "cgcm"  # or "dugdale": its g_max is its contact edge, g_eq + dugdale_penalty W_adh / T_max
+    dugdale_ramp: float = 0.8  # units of h0 = W_adh / T_max
+    dugdale_penalty: float = 0.005  # units of h0
 
 
 @dataclass(frozen=True)
@@ -296,9 +299,13 @@ class Parameters:
             raise ConfigError(f"adhesion.T_max = {adh['T_max']!r}, adhesion.W_adh = {adh['W_adh']!r}, material.E = "
                               f"{mat['E']!r} and geometry.L0 = {geo['L0']!r} give {bad} = {c[bad]!r} in units of E and "
                               "L0: not computable")
+        g_max = c["g_max"]
+        if adh["law"] == "dugdale":  # the contact edge: where the repulsion's line reaches the tension T_max
+            g_max = c["g_eq"] + adh["dugdale_penalty"] * c["W_adh"] / c["T_max"]
         adhesion = Adhesion(
-            r0=c["r0"], A_H=c["A_H"], T0=c["T0"], g_eq=c["g_eq"], g_max=c["g_max"],
-            T_max=c["T_max"], W_adh=c["W_adh"], g_reg=adh["g_reg_over_g_eq"] * c["g_eq"],
+            r0=c["r0"], A_H=c["A_H"], T0=c["T0"], g_eq=c["g_eq"], g_max=g_max,
+            T_max=c["T_max"], W_adh=c["W_adh"], g_reg=adh["g_reg_over_g_eq"] * c["g_eq"], law=adh["law"],
+            dugdale_ramp=float(adh["dugdale_ramp"]), dugdale_penalty=float(adh["dugdale_penalty"]),
         )
         s_cut = float(fr["s_cut"])
         friction = Friction(
@@ -346,7 +353,7 @@ class Parameters:
             contact=ContactSpec(
                 far_gap=config["contact"]["far_gap_over_r0"] * c["r0"],
                 repulsion_only=bool(config["contact"]["repulsion_only"]),
-                area_gap=config["contact"]["area_gap_over_g_max"] * c["g_max"],
+                area_gap=config["contact"]["area_gap_over_g_max"] * g_max,
                 normal_traction_area=config["contact"]["normal_traction_area"],
             ),
             geometry=Geometry(R=float(geo["R"]), H=float(geo["H"])),

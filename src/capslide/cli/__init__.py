@@ -84,7 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("verify", help="sweep a Hertz/JKR/Maugis-Dugdale verification scene, write a CSV table of "
                        "errors")
     add_config_args(p, scene_help="start from the packaged scene NAME (2D: hertz, jkr; 3D: sphere_hertz, sphere_md3, "
-                    "sphere_md5); a 2D configuration must be that kind of scene (hertz = contact.repulsion_only)")
+                    "sphere_md5, sphere_dugdale3); a 2D configuration must be that kind of scene (hertz = "
+                    "contact.repulsion_only)")
     p.add_argument("-o", "--output", required=True, metavar="TABLE.csv", help="the table of FE against closed forms")
     p.add_argument("-q", "--quiet", action="store_true")
     p.add_argument("--resume", action="store_true", help="continue an edge-controlled sweep from the checkpoint a "

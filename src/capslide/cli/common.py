@@ -31,8 +31,8 @@ def add_config_args(parser: argparse.ArgumentParser, scene_help: str | None = No
     parser.add_argument("configs", nargs="*", metavar="CONFIG",
                         help="YAML config file(s) or packaged scene name(s), later ones update earlier ones")
     parser.add_argument("--scene", metavar="NAME", help=scene_help or "start from the packaged scene NAME (cap: the "
-                        "paper's study; sphere, experiment: 3D; hertz, jkr, sphere_hertz, sphere_md3, sphere_md5: "
-                        "verification), the config files update it")
+                        "paper's study; sphere, experiment: 3D; hertz, jkr, sphere_hertz, sphere_md3, sphere_md5, "
+                        "sphere_dugdale3: verification), the config files update it")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a config value by its dotted key, e.g. --set friction.s_cut=0 (repeatable)")
 

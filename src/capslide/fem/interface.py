@@ -44,6 +44,7 @@ import numpy as np
 
 from ..laws import contact
 from ..laws.friction import FrictionLaw, ReturnMapSettings
+from ..laws.normal import normal_law
 from ..params import Adhesion
 from ..states import SlipState
 from .mesh import Mesh
@@ -117,6 +118,7 @@ class SurfaceContact:
                  law: FrictionLaw | None = None, return_map: ReturnMapSettings | None = None,
                  contact_gap: float = np.inf, normal_per_current_area: bool = False):
         self.mesh, self.adhesion, self.law = mesh, adhesion, law
+        self.normal_law = normal_law(adhesion)
         return_map = return_map or ReturnMapSettings(0.0)
         self.eps_t, self.weakening = return_map.eps_t, return_map.weakening
         self.threshold_at_step_start = return_map.threshold_at_step_start
@@ -138,9 +140,8 @@ class SurfaceContact:
 
     # -- pointwise laws ---------------------------------------------------
     def traction(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Tn(g) and dTn/dg (regularized CGCM; repulsion only if asked: max(Tn, 0))."""
-        a = self.adhesion
-        Tn, dTn = contact.normal_traction(g, a.T0, a.r0, a.g_reg)
+        """Tn(g) and dTn/dg (the normal law: regularized CGCM, or Dugdale's; repulsion only if asked: max(Tn, 0))."""
+        Tn, dTn = self.normal_law.traction(g)
         if self.repulsion_only:
             dTn = np.where(Tn > 0.0, dTn, 0.0)
             Tn = np.maximum(Tn, 0.0)
@@ -287,14 +288,14 @@ class SurfaceContact:
 
     def adhesion_energy(self, u: np.ndarray, h: float) -> float:
         """The adhesive potential of the interface per unit width (E L0^2), sum of phi(g_n) dA
-        (:func:`capslide.laws.contact.normal_potential`, the tail beyond far_gap dropped as the force drops it;
+        (the normal law's potential, :mod:`capslide.laws.normal`, the tail beyond far_gap dropped as the force drops it;
         NaN with theta_k = J_s, whose traction has no such potential)."""
         a = self.adhesion
         g, _ = self.gaps(u, h)
         W = self.quad.weight
-        phi = contact.normal_potential(g, a.T0, a.r0, a.g_reg, self.far_gap)
+        phi = self.normal_law.potential(g, self.far_gap)
         if self.repulsion_only:  # max(Tn, 0): the potential of the repulsive part, zero beyond g_eq
-            phi = np.maximum(phi - contact.normal_potential(a.g_eq, a.T0, a.r0, a.g_reg, self.far_gap), 0.0)
+            phi = np.maximum(phi - self.normal_law.potential(a.g_eq, self.far_gap), 0.0)
         return self.whole(float(np.sum(phi * W))) if not self.normal_per_current_area else float("nan")
 
     def friction_energy(self, u: np.ndarray, h: float, ubar: float, anchors: np.ndarray | None,

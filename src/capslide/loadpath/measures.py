@@ -12,7 +12,6 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from ..fem.surface import SurfaceQuadrature, stretch
-from ..laws import contact
 from ..model.system import CapModel, History
 from ..states import Phase, SlipState
 from .contact_patch import contact_patch
@@ -99,8 +98,7 @@ def measure(model: CapModel, x: np.ndarray, history: History, phase: Phase, ubar
     else:
         area, xl, xr = interval_measures(pts, open_gap)
         area_r, _, _ = interval_measures(c.quad.X.reshape(-1, 2), open_gap)
-        a = model.params.adhesion
-        Tn_full, _ = contact.normal_traction(g, a.T0, a.r0, a.g_reg)  # compressive where > 0, also when repulsion only
+        Tn_full, _ = c.normal_law.traction(g)  # compressive where > 0, also when repulsion only
         area_c, _, _ = interval_measures(pts, -Tn_full.ravel())
         area_s, sl, sr = interval_measures(pts, np.where(st == SlipState.STICK, -1.0, 1.0))
         sl, sr = max(sl, xl), min(sr, xr)  # the stick indicator's midpoints may lie past the gap's edges (NaN stays)

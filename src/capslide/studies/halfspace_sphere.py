@@ -1,5 +1,5 @@
 """The same-law reference of the adhesive sphere: a rigid flat against a linear elastic half-space whose surface
-has the sphere's profile, under the CGCM normal law (frictionless, axisymmetric).
+has the sphere's profile, under the configuration's normal law, CGCM or Dugdale (frictionless, axisymmetric).
 
 It answers what the Maugis-Dugdale comparison cannot: how far the 3D FE sphere is from the exact solution of its
 own law, apart from the law's shape (the Lennard-Jones type traction against Dugdale's constant stress).
@@ -32,10 +32,11 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.special import ellipe, ellipk
 
-from ..laws import analytic, contact, sphere
+from ..laws import analytic, sphere
+from ..laws.normal import NormalLaw, normal_law
 from ..params import Parameters
 
-__all__ = ["disk_displacement", "ring_influence", "cgcm_traction", "SphereOnHalfSpace", "EdgeSolution", "pull_off",
+__all__ = ["disk_displacement", "ring_influence", "cut_traction", "SphereOnHalfSpace", "EdgeSolution", "pull_off",
            "SameLawReference", "same_law_reference"]
 
 RINGS_PER_ZONE = 16  # ring width: the length E* W / T_max^2 (the cohesive zone's scale, ~ 1 / lambda^2) / 16
@@ -63,14 +64,15 @@ def ring_influence(centers, edges, E_star: float) -> np.ndarray:
     return disks[:, 1:] - disks[:, :-1]
 
 
-def cgcm_traction(T0: float, r0: float, g_reg: float, far_gap: float) -> Callable:
-    """The FE's normal law as ``g -> (Tn, dTn/dg)``: the regularized CGCM traction, zero from ``far_gap`` on (the
-    contact integral drops the tail there)."""
+def cut_traction(law: NormalLaw, far_gap: float) -> Callable:
+    """The FE's normal law as ``g -> (Tn, dTn/dg)``: ``law``'s traction (CGCM or Dugdale), zero from ``far_gap`` on
+    (the contact integral drops the tail there)."""
     def traction(g):
         near = g < far_gap
-        Tn, dTn = contact.normal_traction(np.where(near, g, far_gap), T0, r0, g_reg)
+        Tn, dTn = law.traction(np.where(near, g, far_gap))
         return np.where(near, Tn, 0.0), np.where(near, dTn, 0.0)
     return traction
+
 
 
 @dataclass(frozen=True)
@@ -92,7 +94,7 @@ class SphereOnHalfSpace:
     ``profile``: ``"sphere"`` (R - sqrt(R^2 - r^2)) or ``"paraboloid"`` (r^2 / 2R)."""
 
     def __init__(self, traction: Callable, R: float, E_star: float, r_band: float, dr: float, edge_gap: float,
-                 profile: str = "sphere"):
+                 profile: str = "sphere", max_step: float | None = None):
         n = int(round(r_band / dr))
         self.edges = np.linspace(0.0, r_band, n + 1)
         self.r = 0.5 * (self.edges[1:] + self.edges[:-1])
@@ -105,6 +107,7 @@ class SphereOnHalfSpace:
         else:
             raise ValueError(f"profile = {profile!r}: 'sphere' or 'paraboloid'")
         self.traction, self.edge_gap = traction, edge_gap
+        self.max_step = 0.25 * edge_gap if max_step is None else max_step
 
     def _edge_row(self, a: float) -> np.ndarray:
         """Weights that interpolate the ring gaps linearly at radius a."""
@@ -147,8 +150,8 @@ class SphereOnHalfSpace:
             J[:n, n] = 1.0
             J[n, :n], J[n, n] = row, 0.0
             step = np.linalg.solve(J, -F)
-            # keep a Newton step within a quarter of the edge gap, so that no ring jumps across the law's well
-            step *= min(1.0, 0.25 * self.edge_gap / max(np.max(np.abs(step[:n])), 1e-300))
+            # keep a ring's Newton step within max_step, so that no ring jumps across the law's well
+            step *= min(1.0, self.max_step / max(np.max(np.abs(step[:n])), 1e-300))
             g = g + step[:n]
             delta += step[n]
         raise RuntimeError(f"no equilibrium at a = {a:g} after {max_iter} Newton iterations")
@@ -198,7 +201,7 @@ class SameLawReference:
 
 
 def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere") -> SameLawReference | None:
-    """The adhesive sphere of ``params`` (its CGCM law, far gap and contact band; E* of its small strains) on a
+    """The adhesive sphere of ``params`` (its normal law, far gap and contact band; E* of its small strains) on a
     half-space, along the edge path up to the contact radius ``a_max``; None when it needs more than MAX_RINGS
     rings (a cohesive zone too narrow against the band)."""
     ad, R = params.adhesion, params.geometry.R
@@ -207,8 +210,10 @@ def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere"
     band = params.mesh.band_half_width
     if band / dr > MAX_RINGS:
         return None
-    halfspace = SphereOnHalfSpace(cgcm_traction(ad.T0, ad.r0, ad.g_reg, params.contact.far_gap), R, E_star, band,
-                                  dr, ad.g_max, profile)
+    law = normal_law(ad)
+    max_step = 0.1 * law.rho if ad.law == "dugdale" else None  # a ring's step within a tenth of the Dugdale ramp
+    halfspace = SphereOnHalfSpace(cut_traction(law, params.contact.far_gap), R, E_star, band, dr, ad.g_max, profile,
+                                  max_step)
     scale = sphere.md_scales(R, E_star, ad.W_adh)["radius"]
     step = scale / RADII_PER_RADIUS_SCALE
     path = halfspace.edge_path(np.arange(2.0 * step, a_max + 2.0 * step, step))

@@ -34,7 +34,7 @@ import numpy as np
 from ..config import SPHERE_ELEMENTS
 from ..io.reading import ResultFileError
 from ..io.sweep_checkpoint import SavedSweep
-from ..laws import analytic, contact, sphere
+from ..laws import analytic, sphere
 from ..loadpath.cap import load_path, spread_constraint, spread_control
 from ..loadpath.continuation import Leg, LegEnd, Loop, StepControl, continuation, drain, newton_options, solve_constrained
 from ..loadpath.measures import StepRecord, interval_measures, measure
@@ -129,7 +129,7 @@ def sweep(params: Parameters, scene: str | None = None, progress=None, saved=Non
         else:
             a_fe = 0.5 * rec.area_compressive
             a_th = float(analytic.hertz_line_half_width(P, g.R, E_star))
-            Tn, _ = contact.normal_traction(rec.gap, a.T0, a.r0, a.g_reg)
+            Tn, _ = model.contact.normal_law.traction(rec.gap)
             rows.append(VerificationRow(scene, "half_width", P, a_fe, a_th, dict(closed_form)))
             rows.append(VerificationRow(scene, "half_width_reference", P, reference_half_width(model, rec, -Tn), a_th,
                                         dict(closed_form)))
