@@ -57,7 +57,7 @@ rule verification_figure:
 
 
 # snakemake --cores 2 verification3d: the 3D sphere against the Hertz and Maugis-Dugdale spheres (docs/three_d.md).
-VERIFICATION_3D_SCENES = ["sphere_hertz", "sphere_md3", "sphere_md5", "sphere_dugdale3"]
+VERIFICATION_3D_SCENES = ["sphere_hertz", "sphere_md3", "sphere_md5"]
 
 
 rule verification3d:
