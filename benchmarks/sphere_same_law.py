@@ -1,7 +1,8 @@
 """The adhesive sphere's law against Maugis-Dugdale, and the FE path against both.
 
-The scene's CGCM law on an elastic half-space (capslide.studies.halfspace_sphere: same law, band and far gap, the
-sphere's profile) against the Maugis-Dugdale sphere at the scene's lambda: the law's shape, apart from any mesh.
+The scene's normal law (CGCM, or Dugdale's with --scenes sphere_dugdale3) on an elastic half-space
+(capslide.studies.halfspace_sphere: same law, band and far gap, the sphere's profile) against the Maugis-Dugdale
+sphere at the scene's lambda: the law's shape, apart from any mesh.
 Variants: the paraboloid r^2 / 2R (Maugis-Dugdale's profile) and a band of 40 L0 (the law's tail kept; at
 lambda = 5 that is 2,600 rings, about 20 minutes). With
 ``--log``, the edge-controlled path of a `capslide verify` log (its `spread` and `preload` lines) against both.

@@ -3,11 +3,11 @@ range h0 = W / sigma0 (Maugis, J. Colloid Interface Sci. 150 (1992) 243), with a
 surfaces touch. It lets the FE sphere be checked against the Maugis-Dugdale solution itself, apart from the CGCM
 law's shape (docs/three_d.md).
 
-Piecewise linear, so that Newton has a tangent everywhere; the smoothing fraction s sets both the penalty's width
-and the ramp that ends the zone, as fractions of h0, and the law tends to Dugdale's as s -> 0:
+Piecewise linear, so that Newton has a tangent everywhere; the penalty's width delta and the ramp's width rho
+are fractions of h0, and the law tends to Dugdale's as both go to zero:
 
-    Tn(g) = sigma0 (g_eq - g) / delta                 g <= g_edge = g_eq + delta       (delta = s h0)
-    Tn(g) = -sigma0                                   g_edge <= g <= g_end - rho / 2   (rho = s h0)
+    Tn(g) = sigma0 (g_eq - g) / delta                 g <= g_edge = g_eq + delta
+    Tn(g) = -sigma0                                   g_edge <= g <= g_end - rho / 2
     Tn(g) = -sigma0 (g_end + rho / 2 - g) / rho       on the ramp |g - g_end| < rho / 2
     Tn(g) = 0                                         g >= g_end + rho / 2
 

@@ -74,7 +74,6 @@ def cut_traction(law: NormalLaw, far_gap: float) -> Callable:
     return traction
 
 
-
 @dataclass(frozen=True)
 class EdgeSolution:
     """One equilibrium at the contact radius ``a`` (length): approach ``delta`` (length), load ``P`` (force,
@@ -91,7 +90,8 @@ class EdgeSolution:
 class SphereOnHalfSpace:
     """The axisymmetric half-space under a traction law ``traction(g) -> (Tn, dTn/dg)``, on rings of width ``dr``
     out to ``r_band`` (no traction beyond, as the FE's contact band); the contact edge is where g = ``edge_gap``.
-    ``profile``: ``"sphere"`` (R - sqrt(R^2 - r^2)) or ``"paraboloid"`` (r^2 / 2R)."""
+    ``profile``: ``"sphere"`` (R - sqrt(R^2 - r^2)) or ``"paraboloid"`` (r^2 / 2R). ``max_step``: the largest change
+    of a ring's gap in one Newton iteration (length; a quarter of the edge gap unless given)."""
 
     def __init__(self, traction: Callable, R: float, E_star: float, r_band: float, dr: float, edge_gap: float,
                  profile: str = "sphere", max_step: float | None = None):
