@@ -68,8 +68,8 @@ def law_table(scene: str, overrides: list[str]) -> None:
     print("(the columns a = ...: P_same_law(a) - P_MD(a), relative to |P_c|)")
 
 
-def log_table(scene: str, log: str) -> None:
-    params = Parameters.from_config(load_config([scene_path(scene)]))
+def log_table(scene: str, log: str, overrides: list[str]) -> None:
+    params = Parameters.from_config(load_config([scene_path(scene)], overrides))
     lam, md_load, P_c, md_scale = md(params)
     points = []
     for line in open(log):
@@ -106,13 +106,13 @@ def log_table(scene: str, log: str) -> None:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", nargs="+", default=["sphere_md3", "sphere_md5"])
-    ap.add_argument("--log", help="a `capslide verify` log of the first scene")
+    ap.add_argument("--log", help="a `capslide verify` or `capslide run` log of the first scene, run with the same --set")
     ap.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     args = ap.parse_args()
     for scene in args.scenes:
         law_table(scene, args.overrides)
     if args.log:
-        log_table(args.scenes[0], args.log)
+        log_table(args.scenes[0], args.log, args.overrides)
 
 
 if __name__ == "__main__":
