@@ -37,7 +37,9 @@ class NewtonOptions:
     atol: float = 1e-10
     dx_tol: float = 1e-8
     max_iterations: int = 30
-    line_search_steps: int = 8  # halvings before the full step is taken anyway
+    line_search_steps: int = 8  # halvings before the line search gives up
+    line_search_failure: str = "longest"  # then: take the longest admissible step (Newton may still converge),
+    # or "fail": return failure, so that the caller cuts the step back (a law with kinks, docs/three_d.md)
     sufficient_decrease: float = 1e-4
     divergence_factor: float = 1e6  # ||r|| above this times the initial one: diverged
     estimate_fraction: float = 0.1  # a residual below tolerance also converges when the estimated next increment
@@ -144,7 +146,9 @@ def newton(
                 accepted = True
                 break
             alpha *= 0.5
-        if not accepted:  # no decrease found: take the longest admissible step (Newton may still converge)
+        if not accepted:  # no decrease found: fail, or take the longest admissible step
+            if options.line_search_failure == "fail":
+                return NewtonResult(x, False, it, "line search found no decrease", norms, lin_its)
             if x_ok is None:
                 return NewtonResult(x, False, it - 1, "no admissible step (inverted elements)", norms, lin_its)
             x_try, r_try, n_try, alpha = x_ok, r_ok, n_ok, alpha_ok
