@@ -201,23 +201,27 @@ def test_inexact_newton_on_the_cap(paper_config, monkeypatch):
     assert krylov[0] < 0.8 * krylov[1]
 
 
-def test_line_search_failure_fails_or_takes_the_longest_step():
-    """An increment that climbs the residual (here +x on f(x) = x) gives the line search no decrease at any length.
-    line_search_failure 'fail' returns failure at once with x unchanged, so that the caller cuts the step back;
-    'longest' (the default) takes the full step and goes on. Where the line search succeeds both agree bit for bit."""
+def test_longest_step_is_taken_only_within_its_growth_bound():
+    """An increment that climbs the residual (here +x on f(x) = x, so the full step doubles it) gives the line search
+    no decrease at any length. With longest_step_max_growth below 2 the solve fails at once with x unchanged, so that
+    the caller cuts the step back; at 2 or more (and by default, no bound) Newton takes the full step and goes on.
+    Where the line search succeeds the bound changes nothing, bit for bit."""
     climbing = (lambda x: x.copy(), lambda x: (x.copy(), lambda r: -r))
-    failed = newton(*climbing, np.array([1.0]), NewtonOptions(line_search_failure="fail"))
-    assert not failed.converged and failed.reason == "line search found no decrease"
-    assert failed.iterations == 1 and failed.x[0] == 1.0 and failed.residual_norms == [1.0]
-    went_on = newton(*climbing, np.array([1.0]), NewtonOptions(max_iterations=3))
-    assert not went_on.converged and went_on.x[0] == 8.0 and "no convergence" in went_on.reason
+    for bound in (0.0, 1.9):
+        failed = newton(*climbing, np.array([1.0]), NewtonOptions(longest_step_max_growth=bound))
+        assert not failed.converged and failed.reason.startswith("line search found no decrease")
+        assert failed.iterations == 1 and failed.x[0] == 1.0 and failed.residual_norms == [1.0]
+    for options in (NewtonOptions(max_iterations=3), NewtonOptions(max_iterations=3, longest_step_max_growth=2.0)):
+        went_on = newton(*climbing, np.array([1.0]), options)
+        assert not went_on.converged and went_on.x[0] == 8.0 and "no convergence" in went_on.reason
     f, lin = _problem(lambda x: np.arctan(x), lambda x: np.array([[1.0 / (1.0 + x[0] ** 2)]]))
-    longest, fail = (newton(f, lin, np.array([3.0]), NewtonOptions(line_search_failure=m)) for m in ("longest", "fail"))
-    assert fail.converged and np.array_equal(fail.x, longest.x) and fail.residual_norms == longest.residual_norms
+    free, bounded = (newton(f, lin, np.array([3.0]), NewtonOptions(longest_step_max_growth=g)) for g in (np.inf, 0.0))
+    assert bounded.converged and np.array_equal(bounded.x, free.x) and bounded.residual_norms == free.residual_norms
 
 
-def test_line_search_failure_reaches_newton_from_the_config(paper_config):
-    """solver.line_search_failure is what the load path's Newton runs with; a value outside the schema's is refused."""
+def test_longest_step_bound_reaches_newton_from_the_config(paper_config):
+    """solver.longest_step_max_growth is what the load path's Newton runs with (null: no bound); a negative bound is
+    refused."""
     import pytest
 
     from capslide.config import ConfigError, apply_overrides, validate
@@ -229,7 +233,7 @@ def test_line_search_failure_reaches_newton_from_the_config(paper_config):
         config = validate(apply_overrides(paper_config, ["preset=fast", "mesh.size=32", *overrides]))
         return newton_options(build_model(Parameters.from_config(config)))
 
-    assert options().line_search_failure == "longest"
-    assert options("solver.line_search_failure=fail").line_search_failure == "fail"
-    with pytest.raises(ConfigError, match="line_search_failure"):
-        options("solver.line_search_failure=cut")
+    assert options().longest_step_max_growth == np.inf
+    assert options("solver.longest_step_max_growth=100").longest_step_max_growth == 100.0
+    with pytest.raises(ConfigError, match="longest_step_max_growth"):
+        options("solver.longest_step_max_growth=-1")

@@ -242,7 +242,7 @@ class SolverSpec:
     krylov_rtol: float
     factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
     snap_through: bool = False  # a step failing below the minimum step is tried by pseudo-transient continuation
-    line_search_failure: str = "longest"  # when Newton's line search finds no decrease: longest step, or fail
+    longest_step_max_growth: float | None = None  # Newton's fallback step's largest residual growth (None: any)
 
 
 def spring_unit(config: Mapping) -> float:
@@ -373,7 +373,7 @@ class Parameters:
                 linear=sol["linear"], amg_above_dofs=int(sol["amg_above_dofs"]), newton_rtol=float(sol["newton_rtol"]),
                 newton_atol=float(sol["newton_atol"]),
                 newton_max_iterations=int(sol["newton_max_iterations"]),
-                snap_through=bool(sol["snap_through"]), line_search_failure=sol["line_search_failure"],
+                snap_through=bool(sol["snap_through"]), longest_step_max_growth=sol["longest_step_max_growth"],
                 krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
             ),
             output=Output(snapshot_ubar=tuple(config["output"]["snapshot_ubar"]),

@@ -127,7 +127,7 @@ def newton_options(model: CapModel) -> NewtonOptions:
     """Newton tolerances of the configuration."""
     s = model.params.solver
     return NewtonOptions(rtol=s.newton_rtol, atol=s.newton_atol, max_iterations=s.newton_max_iterations,
-                         line_search_failure=s.line_search_failure)
+                         longest_step_max_growth=math.inf if s.longest_step_max_growth is None else s.longest_step_max_growth)
 
 
 SNAP_HANDOVER = 1e-6  # the fall of the residual at which a snap's continuation first hands over to Newton

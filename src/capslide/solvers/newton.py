@@ -37,9 +37,10 @@ class NewtonOptions:
     atol: float = 1e-10
     dx_tol: float = 1e-8
     max_iterations: int = 30
-    line_search_steps: int = 8  # halvings before the line search gives up
-    line_search_failure: str = "longest"  # then: take the longest admissible step (Newton may still converge),
-    # or "fail": return failure, so that the caller cuts the step back (a law with kinks, docs/three_d.md)
+    line_search_steps: int = 8  # halvings before the line search gives up; then the longest admissible step is
+    longest_step_max_growth: float = math.inf  # taken (Newton may still converge) if its residual is at most this
+    # times the current one, else the solve fails, so that the caller cuts the step back (a law with kinks whose
+    # longest step jumps off a plateau into a stiff penalty, docs/three_d.md); 0: fail whenever the search does
     sufficient_decrease: float = 1e-4
     divergence_factor: float = 1e6  # ||r|| above this times the initial one: diverged
     estimate_fraction: float = 0.1  # a residual below tolerance also converges when the estimated next increment
@@ -146,11 +147,12 @@ def newton(
                 accepted = True
                 break
             alpha *= 0.5
-        if not accepted:  # no decrease found: fail, or take the longest admissible step
-            if options.line_search_failure == "fail":
-                return NewtonResult(x, False, it, "line search found no decrease", norms, lin_its)
+        if not accepted:  # no decrease found: take the longest admissible step, unless it grows the residual too much
             if x_ok is None:
                 return NewtonResult(x, False, it - 1, "no admissible step (inverted elements)", norms, lin_its)
+            if n_ok > options.longest_step_max_growth * r_norm:
+                return NewtonResult(x, False, it, f"line search found no decrease (longest step: residual {n_ok:.3e})",
+                                    norms, lin_its)
             x_try, r_try, n_try, alpha = x_ok, r_ok, n_ok, alpha_ok
         x = x_try
         r_prev, r_norm = r_norm, n_try
