@@ -118,12 +118,14 @@ def test_edge_controlled_sweep_of_a_stiff_law():
 
 
 def test_an_edge_controlled_sweep_resumes_from_its_checkpoint_bit_for_bit(tmp_path):
-    """capslide verify --resume: a sweep stopped after its approach and first load, continued from the checkpoint
-    file, gives the uninterrupted table exactly; a checkpoint of another configuration is refused."""
+    """capslide verify --resume: a sweep saves after its approach, after each load and every
+    verification.checkpoint_every converged steps inside a leg. Stopped at a save inside the second load's leg (the
+    first load done), it continues from the file to the uninterrupted table exactly; a checkpoint of another
+    configuration is refused."""
     from capslide.io.checkpoint import CheckpointError, config_text
     from capslide.io.sweep_checkpoint import load_sweep, save_sweep
 
-    p = _stiff_scene([0.0, -0.2])
+    p = _stiff_scene([0.0, -0.2], ["verification.checkpoint_every=2"])
     text, path = config_text(p.config), tmp_path / ".t.csv.checkpoint.npz"
     whole = sweep(p, "jkr")
 
@@ -134,14 +136,16 @@ def test_an_edge_controlled_sweep_resumes_from_its_checkpoint_bit_for_bit(tmp_pa
 
     def save_then_stop(saved):
         save_sweep(path, text, saved)
-        saves.append(saved)
-        if len(saves) == 2:  # the approach, then the first load (-0.2)
+        saves.append((saved.loop is not None, list(saved.done)))
+        if saved.loop is not None and saved.done:
             raise Stop
 
     with pytest.raises(Stop):
         sweep(p, "jkr", save=save_then_stop)
+    assert saves[0] == (False, []) and (True, []) in saves and (False, [-0.2]) in saves  # approach, leg, load
     saved = load_sweep(path, text)
-    assert list(saved.done) == [-0.2]
+    assert list(saved.done) == [-0.2] and saved.loop.value == saved.X and saved.loop.x_prev is not None
+    assert len(saved.records) > saved.done[-0.2] + 1
     resumed = sweep(p, "jkr", saved=saved)
     assert [(r.quantity, r.load, r.fe, r.theory) for r in resumed] == [(r.quantity, r.load, r.fe, r.theory) for r in whole]
     with pytest.raises(CheckpointError, match="another configuration"):

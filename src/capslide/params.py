@@ -230,6 +230,7 @@ class Verification:
     """The load sweep of the Hertz and JKR scenes (``verification``)."""
 
     loads: tuple[float, ...]  # P = -Fn (E L0 W), compressive positive
+    checkpoint_every: int = 0  # converged steps between the edge-controlled sweep's saves inside a leg (0: none)
 
 
 @dataclass(frozen=True)
@@ -383,6 +384,7 @@ class Parameters:
                           max_memory_gb=float(config["limits"]["max_memory_gb"]),
                           refuse_locking=bool(config["limits"]["refuse_locking"]),
                           max_steps=int(config["limits"]["max_steps"])),
-            verification=Verification(loads=tuple(config["verification"]["loads"])),
+            verification=Verification(loads=tuple(config["verification"]["loads"]),
+                                      checkpoint_every=int(config["verification"]["checkpoint_every"])),
             config=config,
         )

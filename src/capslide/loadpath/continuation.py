@@ -351,11 +351,13 @@ class Returning:
         self.value = yield from self.steps
 
 
-def drain(steps: Generator, observe: Callable[[object], None] | None = None):
-    """Run a generator of steps to its end, calling ``observe(step)`` on each step (notices skipped); its return
-    value."""
+def drain(steps: Generator, observe: Callable[[object], None] | None = None,
+          notify: Callable[[Notice], None] | None = None):
+    """Run a generator of steps to its end, calling ``observe(step)`` on each converged step and ``notify(notice)``
+    on each notice; its return value."""
     run = Returning(steps)
     for step in run:
-        if observe is not None and not isinstance(step, Notice):
-            observe(step)
+        callback = notify if isinstance(step, Notice) else observe
+        if callback is not None:
+            callback(step)
     return run.value

@@ -152,6 +152,12 @@ class Recording:
         if self.progress:
             self.progress(step.record)
 
+    def notice(self, notice) -> None:
+        """Show a notice of the path (a cut-back) to ``progress``, where it takes notices."""
+        show = getattr(self.progress, "notice", None)
+        if show is not None:
+            show(notice)
+
 
 def force_leg(model: CapModel, x: np.ndarray, Fn: float, observe, ends=None) -> tuple[Loop, LegEnd]:
     """Force control from the state x (at the normal force of the last record) to ``Fn``."""
@@ -207,8 +213,9 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     pull-off (under force control there is no equilibrium beyond it).
 
     Each load's leg starts from a fresh factorization. ``save`` (a callable of a :class:`SavedSweep`) is called
-    after the approach and after each load; ``saved`` continues such a save: the same arithmetic as the
-    uninterrupted sweep."""
+    after the approach, after each load and every ``verification.checkpoint_every`` converged steps inside a leg (with
+    a fresh factorization after it; not where the path's history holds state, friction or a viscous bulk);
+    ``saved`` continues such a save: the same arithmetic as the uninterrupted sweep."""
     observe = Recording(records, progress)
     if saved is None:
         end = drain(load_path(model, stop_before="spread"), observe)
@@ -228,14 +235,17 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     x, X = saved.x, saved.X
     done = dict(saved.done)
     states = {P: records[i] for P, i in done.items()}
+    loop = saved.loop
     for P in sorted(loads):  # most tensile first
         if P in done:
             continue
         model.solver.invalidate()
         until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
-        loop = Loop.start(x, X, X_end, control)
+        loop = loop if loop is not None else Loop.start(x, X, X_end, control)
+        in_leg = _saving_inside_leg(observe, model, save, lambda: SavedSweep(loop.x, loop.value, list(records),
+                                                                             dict(done), first, loop))
         leg = drain(continuation(model, loop, History(), Leg(constraint_of, X_end, control, Phase.SPREAD, "approach",
-                                                             ends=until)), observe)
+                                                             ends=until)), in_leg, observe.notice)
         if leg.status != Status.COMPLETED or not leg.reason:
             raise VerificationFailed(f"at P = {P}: {leg.reason or 'the contact edge reached the end of the top surface'}")
         if P < -max(path_forces()):
@@ -244,10 +254,33 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
         bracket = ((loop.value_prev, -edge[-2].Fn, loop.x_prev), (loop.value, -edge[-1].Fn, loop.x))
         states[P] = _equilibrium_at_load(model, bracket, P, records, progress)
         done[P] = len(records) - 1  # its record, the last one
-        x, X = loop.x, loop.value
+        x, X, loop = loop.x, loop.value, None
         if save:
             save(SavedSweep(x, X, list(records), dict(done), first))
     return states, max(path_forces()), "largest tensile force along the edge-controlled path"
+
+
+def _saving_inside_leg(observe: Recording, model: CapModel, save, saved_now):
+    """``observe``, and every ``verification.checkpoint_every`` converged steps of a leg that goes on, a fresh
+    factorization (whether or not it saves, so that the arithmetic is the configuration's) and
+    ``save(saved_now())``: only where the step's history is empty (frictionless, elastic, compressible), since a
+    leg resumes from ``History()``."""
+    every, count = model.params.verification.checkpoint_every, [0]
+
+    def step(converged) -> None:
+        observe(converged)
+        count[0] += 1
+        if every and count[0] % every == 0 and converged.end is None and _empty(converged.history):
+            model.solver.invalidate()
+            if save:
+                save(saved_now())
+
+    return step
+
+
+def _empty(history: History) -> bool:
+    h = history
+    return all(v is None for v in (h.anchors, h.slip, h.pressure, h.networks, h.thresholds)) and h.time == 0.0
 
 
 def _past_peak(forces: list[float], n: int = 3) -> bool:
