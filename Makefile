@@ -46,7 +46,7 @@ verification3d: setup-pardiso
 test: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/snakefmt --check Snakefile workflow/rules
-	$(BIN)/python -m pytest -m "not slow" -n $(CORES)
+	$(BIN)/python -m pytest -m "not slow" -n $(CORES) --dist loadscope
 
 test-all: setup
 	$(BIN)/ruff check src tests benchmarks

@@ -81,6 +81,7 @@ def test_resume_repeats_the_uninterrupted_history(setup, uninterrupted, tmp_path
     assert_same_history(uninterrupted, resumed)
 
 
+@pytest.mark.slow
 def test_a_checkpoint_in_steady_sliding_resumes_it(setup, uninterrupted, tmp_path):
     """A checkpoint saved where the slide has just become steady (the loop's step infinite: the next step goes to
     the end of the leg in one) resumes into the uninterrupted history."""
@@ -248,6 +249,7 @@ def test_two_runs_writing_one_file_both_finish(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o.nc"]  # no temporary, no checkpoint left
 
 
+@pytest.mark.slow
 def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp_path):
     """The weakening threshold depends on each point's accumulated slip: a resume mid-weakening repeats the
     uninterrupted history bit for bit only if the checkpoint carries it."""
@@ -264,6 +266,7 @@ def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp
     assert_same_history(full, run_saving(params, tmp_path / "ckpt", 5, resume=saved))
 
 
+@pytest.mark.slow
 def test_resume_carries_the_thresholds_a_step_holds(paper_config, tmp_path):
     """With friction.threshold_at = step_start each step takes the thresholds of its start state: a resume
     mid-slide repeats the uninterrupted history bit for bit only if the checkpoint carries them."""
@@ -289,6 +292,7 @@ class OnsetCeilings(Observer):
         self.seen.append((step.state.onset_ceiling, step.record.area_stick > 0.0))
 
 
+@pytest.mark.slow
 def test_a_checkpoint_within_the_onset_search_resumes_it(paper_config, tmp_path):
     """A checkpoint saved after a step cut back for closing the stick zone (the onset ceiling set, the stick zone
     still open) carries the ceiling: the resumed search takes the uninterrupted run's steps, bit for bit."""

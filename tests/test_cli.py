@@ -168,6 +168,7 @@ def test_verify_that_finds_no_equilibrium_stops_with_one_line(run, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_verify_of_the_paper_cap_says_the_jkr_reference_is_not_valid(run, tmp_path):
     """The paper's cap (fast preset) has Maugis parameter 4.83 < 5: the table says so on every row, the terminal
     says it once and marks the rows; the scene comes from the config; the pull-off row has no load. About 12 s."""

@@ -102,6 +102,7 @@ sweeps:
 """
 
 
+@pytest.mark.slow
 def test_small_study_table_matches_the_raw_case_files(workdir):
     """snakemake convergence on a tiny spec; every error in the table recomputed from the case files."""
     (workdir / "config" / "convergence.yaml").write_text(SMALL)

@@ -79,6 +79,7 @@ def test_a_stiff_sphere_pulls_off_at_bradleys_force():
     assert a_c == pytest.approx(math.sqrt(2.0 * R * (c["g_max"] - c["g_eq"])), rel=1e-2)
 
 
+@pytest.mark.slow
 def test_the_reference_of_sphere_md3_is_converged_in_its_rings(monkeypatch):
     """Halving the ring width moves the pull-off by less than 1e-5 and P(a) by less than 0.1 % of |P_c|."""
     p = Parameters.from_config(load_config([scene_path("sphere_md3")]))

@@ -135,6 +135,7 @@ def test_cook_membrane_exactly_incompressible_meets_the_constraint():
 
 # -- contact ------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_hertz_line_contact_of_an_incompressible_body():
     """The Hertz scene at nu = 0.5 (E* = 4E/3) on a mesh 2x coarser than the scene's: the half-width within 1 % of
     sqrt(4 P R / (pi E*)) (measured +0.53 %). About 20 s."""

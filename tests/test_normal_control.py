@@ -76,6 +76,7 @@ def test_force_and_height_control_hold_their_variable(paper_config):
     assert min(r.Fn for r in height) < -0.05  # and at fixed height the cap presses harder instead
 
 
+@pytest.mark.slow
 def test_spring_tends_to_force_and_to_height_control(paper_config):
     to_force = [np.abs(qoi(run(paper_config, "spring", k)[2]) - qoi(run(paper_config, "force")[2])).max()
                 for k in (1e-2, 1e-3)]

@@ -66,6 +66,7 @@ def test_a_slide_from_the_shared_state_is_the_case_alone(base, tmp_path):
     assert_same_case(alone, shared)
 
 
+@pytest.mark.slow
 def test_a_viscous_dwell_and_slide_from_the_shared_state_is_the_case_alone(base, tmp_path):
     """With a viscoelastic bulk the state carries the branches' networks and the time; the dwell runs after the
     state, so a state computed with another dwell (and another friction law) serves, bit for bit."""
@@ -81,6 +82,7 @@ def test_a_viscous_dwell_and_slide_from_the_shared_state_is_the_case_alone(base,
     assert [r.time for r in shared.records] == [r.time for r in alone.records]
 
 
+@pytest.mark.slow
 def test_a_tensile_preload_goes_on_from_the_state_it_is_retracted_from(base, tmp_path):
     """+0.144 is reached by retraction from -0.288: from the -0.288 state, the same path as the case alone."""
     compressed = params_of(base, loading__preload=-0.288)
@@ -100,6 +102,7 @@ def test_a_tensile_preload_goes_on_from_the_state_it_is_retracted_from(base, tmp
     assert continued_from(compressed.loading, saved.state, -0.288, approached) is None
 
 
+@pytest.mark.slow
 def test_a_compressive_preload_goes_on_from_the_state_its_loading_passes(base, tmp_path, capsys):
     """With loading.preload_via the path to -0.144 lands on 0 (config.yaml lists the study's preloads):
     ``capslide preload --from-state`` at -0.144 goes on from the state at 0, and a case slid from that state is the

@@ -52,6 +52,7 @@ def study(tmp_path_factory):
     return root
 
 
+@pytest.mark.slow
 def test_table_and_figures(study, capsys):
     out = study / "out"
     code = main(["options", str(study / "spec.yaml"), "--cases", str(study / "cases"), "-o", str(out / "t.csv"),
@@ -67,6 +68,7 @@ def test_table_and_figures(study, capsys):
     assert "snapped" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_a_missing_case_file_is_one_line(study, tmp_path, capsys):
     code = main(["options", str(study / "spec.yaml"), "--cases", str(tmp_path), "-o", str(tmp_path / "t.csv")])
     err = capsys.readouterr().err.strip().splitlines()

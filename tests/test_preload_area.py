@@ -125,6 +125,7 @@ def test_the_slide_holds_the_force_the_preload_to_an_area_reached(paper_config):
     assert slide and all(abs(r.Fn - reached.Fn) <= 1e-9 for r in slide)
 
 
+@pytest.mark.slow
 def test_a_preload_to_an_area_goes_on_from_the_zero_load_state(tmp_path, capsys):
     """The experiment's cases start from one normal state at zero load (workflow/rules/experiment3d.smk): the path
     goes on from it (no second approach) and lands on the same area as a fresh path."""

@@ -85,7 +85,7 @@ def test_a_leg_that_ends_without_moving_the_path_ends_it_diverged(base, monkeypa
 
 
 # -- 2. the leg after a normal state follows the run's own settings ------------------------------------------------
-@pytest.mark.parametrize("state_dwell", [0.0, 3.0])
+@pytest.mark.parametrize("state_dwell", [0.0, pytest.param(3.0, marks=pytest.mark.slow)])
 def test_a_slide_from_a_state_dwells_as_the_case_alone(base, tmp_path, state_dwell):
     """From one state (computed with dwell 0, or 3) the cases with dwell 0, 2 and 3 are each the case alone, bit for
     bit. Before: a state of dwell 0 skipped every dwell (peak Ft 6 % low), one of dwell 3 hung a case of dwell 0."""
@@ -305,6 +305,7 @@ def test_a_hertz_sweep_at_zero_load_is_refused(tmp_path):
     assert not (tmp_path / "h.csv").exists()
 
 
+@pytest.mark.slow
 def test_a_damaged_sweep_checkpoint_starts_afresh_and_goes_with_the_table(tmp_path):
     """capslide verify --resume with an unreadable checkpoint beside the table: one line saying why, the sweep
     afresh, and no checkpoint left once the table is written."""

@@ -73,6 +73,7 @@ dwells = st.one_of(st.sampled_from(TINY), st.floats(0.0, 0.3, allow_nan=False))
 preloads = st.sampled_from(["approach end", "approach end + 1e-13", 0.0, -0.05, 0.05])
 
 
+@pytest.mark.slow
 @PROPERTY
 @given(ubar_max=lengths, dwell=dwells, preload=preloads, slide_back=st.booleans())
 def test_every_load_path_ends(ubar_max, dwell, preload, slide_back):

@@ -263,6 +263,7 @@ def test_steady_sliding_needs_three_fully_sliding_steps_with_nothing_changing():
     assert not steady_sliding(marks, rec(Ft=1.6), unread, r0)
 
 
+@pytest.mark.slow
 def test_steady_sliding_goes_to_the_snapshots_and_the_end_in_one_step(paper_config, monkeypatch, tmp_path):
     """Once sliding is steady, each step goes to the next snapshot or the end: the same state there as step by
     step (QoIs, forces, gaps and tractions), in fewer steps, each a converged Newton solve, flagged in the file."""

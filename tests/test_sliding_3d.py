@@ -12,28 +12,49 @@ from capslide.config import load_config
 from capslide.driver.case import run_case
 from capslide.fem.interface import SurfaceContact
 from capslide.fem.surface import stretch
+from capslide.io.checkpoint import SavedCase
+from capslide.io.normal_state import read_normal_state, write_normal_state
 from capslide.io.results import case_dataset
 from capslide.laws import contact
 from capslide.params import Parameters
-from capslide.states import Phase, SlipState
+from capslide.states import Phase, SlipState, Status
 
 from conftest import default_sigint
 
-COARSE = ["mesh.size=220", "loading.approach_edge_step=1.0", "loading.max_slide_step=0.3", "output.snapshot_ubar=[]"]
+COARSE = ["mesh.size=220", "loading.approach_edge_step=1.0", "loading.max_slide_step=0.3", "output.snapshot_ubar=[]",
+          "solver.linear=lu_krylov"]  # SuperLU's factors: 113 s for the DI case on this 6,783-DOF mesh, AMG's 160 s
 
 
-def _run(tmp_path_factory, name, *overrides):
-    """A coarse sphere case: its parameters, its result (final state and mesh) and its case file, reopened."""
-    p = Parameters.from_config(load_config(["sphere"], [*COARSE, *overrides]))
-    result = run_case(p)
+def _params(*overrides) -> Parameters:
+    return Parameters.from_config(load_config(["sphere"], [*COARSE, *overrides]))
+
+
+@pytest.fixture(scope="module")
+def zero_load(tmp_path_factory):
+    """The coarse sphere preloaded to zero load, written as a normal state: every slide here starts from it (a
+    slide from a normal state is the case alone, bit for bit: tests/test_normal_state.py)."""
+    p = _params("friction.model=DI", "loading.ubar_max=2.7")  # the slides' (part of a normal state's configuration)
+    pre = run_case(p, stop_before="dwell")
+    assert pre.status == Status.COMPLETED, pre.reason
+    path = tmp_path_factory.mktemp("normal") / "Fn0.npz"
+    write_normal_state(path, SavedCase(pre.state, pre.records, [], pre.wall_time), p.config)
+    return path
+
+
+def _run(tmp_path_factory, zero_load, name, *overrides):
+    """A coarse sphere case slid from the zero-load state: its parameters, its result (final state and mesh) and its
+    case file, reopened."""
+    p = _params(*overrides)
+    result = run_case(p, resume=read_normal_state(zero_load, p.config))
     out = tmp_path_factory.mktemp(name) / f"{name}.nc"
     case_dataset(result).to_netcdf(out)
     return p, result, xr.open_dataset(out)
 
 
 @pytest.fixture(scope="module")
-def di_sphere(tmp_path_factory):
-    return _run(tmp_path_factory, "di", "friction.model=DI", "loading.ubar_max=2.7", "output.snapshot_ubar=[0.0,1.2]")
+def di_sphere(tmp_path_factory, zero_load):
+    return _run(tmp_path_factory, zero_load, "di", "friction.model=DI", "loading.ubar_max=2.7",
+                "output.snapshot_ubar=[0.0,1.2]")
 
 
 def test_di_sphere_slides_fully_at_tau_times_area(di_sphere):
@@ -80,11 +101,12 @@ def _points_area(p, result):
     return 2.0 * float(np.sum((c.quad.weight * J)[g <= p.contact.area_gap]))
 
 
-def test_a_threshold_held_over_each_step_slides_as_the_law(di_sphere, tmp_path_factory):
+@pytest.mark.slow
+def test_a_threshold_held_over_each_step_slides_as_the_law(di_sphere, zero_load, tmp_path_factory):
     """friction.threshold_at = step_start (the experiment scene's) holds each step's thresholds at its start state:
     its slide follows the current-state threshold's to within one step's change of the threshold (peak Ft within
     0.1 %, onset within one step), and at full sliding it gives Ft = tau x A within 0.5 %."""
-    p, result, ds = _run(tmp_path_factory, "held", "friction.model=DI", "loading.ubar_max=2.7",
+    p, result, ds = _run(tmp_path_factory, zero_load, "held", "friction.model=DI", "loading.ubar_max=2.7",
                          "friction.threshold_at=step_start")
     _, _, current = di_sphere
     assert ds.attrs["status"] == "completed", ds.attrs.get("status_reason")
@@ -111,10 +133,10 @@ def test_di_sphere_balances_forces_and_energy(di_sphere):
     assert np.abs(residual).max() < 1e-3 * work
 
 
-def test_a_frictionless_slide_changes_nothing(tmp_path_factory):
-    _, _, ds = _run(tmp_path_factory, "none", "friction.model=none", "loading.ubar_max=1.0")
+def test_a_frictionless_slide_changes_nothing(zero_load, tmp_path_factory):
+    _, _, ds = _run(tmp_path_factory, zero_load, "none", "friction.model=none", "loading.ubar_max=2.7")
     slide = ds.where(ds.phase == Phase.SLIDE, drop=True)
-    assert float(slide.ubar[-1]) == pytest.approx(1.0)
+    assert float(slide.ubar[-1]) == pytest.approx(2.7)
     for name in ("Fn", "area", "width_y", "h"):
         values = slide[name].values
         assert np.ptp(values) <= 1e-9 * max(1.0, float(np.abs(values).max())), name

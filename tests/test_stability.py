@@ -88,6 +88,7 @@ cases:
 """
 
 
+@pytest.mark.slow
 def test_reduced_suite_through_snakemake(workdir):
     """The stability target on a coarse mesh: every hard case ends as expected and passes its check."""
     tmp_path = workdir

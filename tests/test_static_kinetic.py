@@ -67,6 +67,7 @@ def test_a_snap_ends_snapped_at_its_ubar(paper_config, tmp_path, capsys):
         assert float(ds.area_stick[-1]) > 0.0  # it snapped while a zone still stuck
 
 
+@pytest.mark.slow
 def test_ratio_one_is_the_paper_model(paper_config):
     p1, a = run(paper_config, "loading.ubar_max=2.6")
     p2, b = run(paper_config, "loading.ubar_max=2.6", "friction.static_over_kinetic=1.0",

@@ -117,6 +117,7 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     assert -F_max == pytest.approx(P_c, rel=0.05)
 
 
+@pytest.mark.slow
 def test_an_edge_controlled_sweep_resumes_from_its_checkpoint_bit_for_bit(tmp_path):
     """capslide verify --resume: a sweep saves after its approach, after each load and every
     verification.checkpoint_every converged steps inside a leg. Stopped at a save inside the second load's leg (the

@@ -167,7 +167,8 @@ def step_table(result):
     return np.array([[r.Fn, r.Ft, r.h, r.area, r.ubar] for r in result.records])
 
 
-@pytest.mark.parametrize("tau, modulus", [(1e-12, "long-time"), (1e12, "instantaneous")])
+@pytest.mark.parametrize("tau, modulus", [pytest.param(1e-12, "long-time", marks=pytest.mark.slow),
+                                          (1e12, "instantaneous")])
 def test_limits_are_neo_hooke_cases(paper_config, tau, modulus):
     """tau -> 0 reproduces the neo-Hooke case with the long-time mu, tau -> infinity the one with the
     instantaneous mu (1 + g) and the same Lambda: every step's Fn, Ft, h, area to 1e-6 (DI, zero load, coarse)."""

@@ -110,12 +110,21 @@ def test_config_values_reach_the_runs(workdir):
 
 
 def test_smoke_workflow_end_to_end(workdir):
-    """The CI smoke study: coarse mesh, three cases, collected dataset and cap figures, through Snakemake."""
+    """The CI smoke study: coarse mesh, three cases, collected dataset and cap figures, through Snakemake. A case
+    of the fast preset runs first: each configuration writes its own folder (results/fast/, results/fast-*/), the
+    fast files stay untouched, and neither uses the other's normal state."""
     import xarray as xr
 
-    res = snakemake(workdir, "--configfile", "config/smoke.yaml")
+    fast = snakemake(workdir, "results/fast/cases/DI_Fn+0.000.nc", "--config", "preset=fast")
+    assert fast.returncode == 0, fast.stdout[-2000:] + fast.stderr[-2000:]
+    before = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
+    assert {p.name for p in before} >= {"DI_Fn+0.000.nc", "Fn+0.000.npz"}
+    res = snakemake(workdir, "--configfile", "config/smoke.yaml", "-p")
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     (results,) = (workdir / "results").glob("fast-*")  # the smoke configuration's own folder
+    assert "results/fast/" not in res.stdout and (results / "states" / "Fn+0.000.npz").exists()
+    after = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
+    assert after == before
     logs = workdir / "logs" / results.name
     cases = sorted((results / "cases").glob("*.nc"))
     assert [p.name for p in cases] == ["DI_Fn+0.000.nc", "EA0_Fn+0.000.nc", "EA1_Fn+0.000.nc"]
@@ -207,17 +216,3 @@ def _job_counts(dry_run_output: str) -> dict[str, int]:
     rows = (re.match(r"^(\w+)\s+(\d+)$", line.strip()) for line in table.splitlines())
     return {m[1]: int(m[2]) for m in rows if m and m[1] != "total"}
 
-
-def test_configurations_never_share_results(workdir):
-    """A case of the fast preset, then the smoke study: each writes its own folder (results/fast/, results/fast-*/),
-    the fast files stay untouched, and neither uses the other's normal state."""
-    fast = snakemake(workdir, "results/fast/cases/DI_Fn+0.000.nc", "--config", "preset=fast")
-    assert fast.returncode == 0, fast.stdout[-2000:] + fast.stderr[-2000:]
-    before = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
-    assert {p.name for p in before} >= {"DI_Fn+0.000.nc", "Fn+0.000.npz"}
-    smoke = snakemake(workdir, "--configfile", "config/smoke.yaml", "-p")
-    assert smoke.returncode == 0, smoke.stdout[-2000:] + smoke.stderr[-2000:]
-    (smoke_dir,) = (workdir / "results").glob("fast-*")
-    assert "results/fast/" not in smoke.stdout and (smoke_dir / "states" / "Fn+0.000.npz").exists()
-    after = {p: (p.stat().st_mtime_ns, p.read_bytes()) for p in (workdir / "results" / "fast").rglob("*") if p.is_file()}
-    assert after == before
