@@ -110,8 +110,8 @@ def test_config_values_reach_the_runs(workdir):
 
 
 def test_smoke_workflow_end_to_end(workdir):
-    """The CI smoke study: coarse mesh, three cases, collected dataset and cap figures, through Snakemake. A case
-    of the fast preset's normal state is computed first: each configuration writes its own folder (results/fast/,
+    """The CI smoke study: coarse mesh, three cases, collected dataset and cap figures, through Snakemake. The fast
+    preset's normal state is computed first: each configuration writes its own folder (results/fast/,
     results/fast-*/), the fast files stay untouched, and neither uses the other's normal state."""
     import xarray as xr
 
