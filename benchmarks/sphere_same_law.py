@@ -3,9 +3,9 @@
 The scene's normal law (CGCM, or Dugdale's with --scenes sphere_dugdale3) on an elastic half-space
 (capslide.studies.halfspace_sphere: same law, band and far gap, the sphere's profile) against the Maugis-Dugdale
 sphere at the scene's lambda: the law's shape, apart from any mesh.
-Variants: the paraboloid r^2 / 2R (Maugis-Dugdale's profile) and a band of 40 L0 (the law's tail kept; at
-lambda = 5 that is 2,600 rings, about 20 minutes). With
-``--log``, the edge-controlled path of a `capslide verify` log (its `spread` and `preload` lines) against both.
+Variants: the paraboloid r^2 / 2R (Maugis-Dugdale's profile) and a band of 40 L0, times (R / 100 L0)^(2/3) (the
+law's tail kept; at lambda = 5 that is 2,600 rings, about 20 minutes). With ``--log``, the edge-controlled path
+of a `capslide verify` log (its `spread` and `preload` lines) against both.
 Loads P = -Fn (E L0^2, compressive positive), errors relative to Maugis-Dugdale's |P_c|.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/sphere_same_law.py [--scenes sphere_md3 sphere_md5] [--log LOG]
@@ -26,7 +26,13 @@ from capslide.laws import analytic, sphere
 from capslide.params import Parameters
 from capslide.studies.halfspace_sphere import same_law_reference
 
-RADII = (1.0, 2.0, 4.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0)
+RADII = (1.0, 2.0, 4.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0)  # L0 at R = 100 L0; x (R / 100 L0)^(2/3) otherwise
+
+
+def length_scale(params: Parameters) -> float:
+    """(R / 100 L0)^(2/3): Maugis-Dugdale's lengths at fixed lambda grow as R^(2/3), so RADII and the wide band
+    scale with it (1 on the scenes' R = 100 L0)."""
+    return (params.geometry.R / 100.0) ** (2.0 / 3.0)
 LINE = re.compile(r"(spread|preload)\s+ubar=.*Fn=([+-][\d.]+).*area=\s*([\d.]+)")
 
 
@@ -51,17 +57,19 @@ def law_table(scene: str, overrides: list[str]) -> None:
     lam, md_load, P_c, md_scale = md(params)
     scale = md_scale["radius"]
     a0_md, a0_jkr = sphere.md_zero_load_radius(lam) * scale, 6.0 ** (1.0 / 3.0) * scale
-    wide = Parameters.from_config(load_config([scene_path(scene)], [*overrides, "mesh.band_half_width=40"]))
-    refs = {"sphere, band": same_law_reference(params, max(RADII) + 0.5),
-            "paraboloid, band": same_law_reference(params, max(RADII) + 0.5, profile="paraboloid"),
-            "paraboloid, 40 L0": same_law_reference(wide, max(RADII) + 0.5, profile="paraboloid")}
+    k = length_scale(params)
+    radii, reach = [k * r for r in RADII], k * (max(RADII) + 0.5)
+    wide = Parameters.from_config(load_config([scene_path(scene)], [*overrides, f"mesh.band_half_width={40 * k:g}"]))
+    refs = {"sphere, band": same_law_reference(params, reach),
+            "paraboloid, band": same_law_reference(params, reach, profile="paraboloid"),
+            f"paraboloid, {40 * k:.4g} L0": same_law_reference(wide, reach, profile="paraboloid")}
     print(f"\n{scene}: lambda = {lam:.3f}, Maugis-Dugdale P_c = {P_c:.4f} E L0^2, band {params.mesh.band_half_width:g} L0")
     print(f"zero-load radius: Maugis-Dugdale {a0_md:.4f} L0, JKR {a0_jkr:.4f} L0")
     print("| same law on | pull-off P_c | against MD | radius a_c | zero-load area against MD | against JKR | "
-          + " | ".join(f"a = {r:g}" for r in RADII) + " |")
-    print("|---" * (6 + len(RADII)) + "|")
+          + " | ".join(f"a = {r:.4g}" for r in radii) + " |")
+    print("|---" * (6 + len(radii)) + "|")
     for name, ref in refs.items():
-        diffs = " | ".join(f"{(ref.load_at(r) - md_load(r)) / abs(P_c):+.2%}" for r in RADII)
+        diffs = " | ".join(f"{(ref.load_at(r) - md_load(r)) / abs(P_c):+.2%}" for r in radii)
         a0 = zero_load_radius(ref)
         print(f"| {name} | {ref.P_c:.4f} | {(ref.P_c - P_c) / abs(P_c):+.2%} | {ref.a_c:.3f} | {(a0 / a0_md) ** 2 - 1:+.2%} "
               f"| {(a0 / a0_jkr) ** 2 - 1:+.2%} | {diffs} |")
@@ -76,7 +84,8 @@ def log_table(scene: str, log: str, overrides: list[str]) -> None:
         m = LINE.match(line)
         if m and float(m.group(3)) > 0.0:
             points.append((m.group(1), math.sqrt(float(m.group(3)) / math.pi), -float(m.group(2))))
-    ref = same_law_reference(params, 1.02 * max(a for _, a, _ in points))
+    a_c_md = sphere.md_pull_off(lam)[1] * md_scale["radius"]  # the reference reaches past the pull-off, so that a
+    ref = same_law_reference(params, max(1.02 * max(a for _, a, _ in points), 1.2 * a_c_md))  # log before it reads
     print(f"\n{log}: {len(points)} states of {scene}")
     print("| step | a (L0) | P (E L0^2) | FE - same law | same law - MD | FE - MD |")
     print("|---|---|---|---|---|---|")

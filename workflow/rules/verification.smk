@@ -56,8 +56,9 @@ rule verification_figure:
         f"{THREADS_ENV} {CAPSLIDE} figure verification {{params.tables}} -o {{output.pdf}} -o {{output.png}} > {{log}} 2>&1"
 
 
-# snakemake --cores 2 verification3d: the 3D sphere against the Hertz and Maugis-Dugdale spheres (docs/three_d.md).
-VERIFICATION_3D_SCENES = ["sphere_hertz", "sphere_md3", "sphere_md5"]
+# snakemake --cores 2 verification3d: the 3D sphere against the Hertz and Maugis-Dugdale spheres, the latter under
+# its own law (sphere_md3, sphere_md5) and under the Dugdale law (sphere_dugdale3) (docs/three_d.md).
+VERIFICATION_3D_SCENES = ["sphere_hertz", "sphere_md3", "sphere_md5", "sphere_dugdale3"]
 
 
 rule verification3d:
