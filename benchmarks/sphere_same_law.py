@@ -27,13 +27,13 @@ from capslide.params import Parameters
 from capslide.studies.halfspace_sphere import same_law_reference
 
 RADII = (1.0, 2.0, 4.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0)  # L0 at R = 100 L0; x (R / 100 L0)^(2/3) otherwise
+LINE = re.compile(r"(spread|preload)\s+ubar=.*Fn=([+-][\d.]+).*area=\s*([\d.]+)")
 
 
 def length_scale(params: Parameters) -> float:
     """(R / 100 L0)^(2/3): Maugis-Dugdale's lengths at fixed lambda grow as R^(2/3), so RADII and the wide band
     scale with it (1 on the scenes' R = 100 L0)."""
     return (params.geometry.R / 100.0) ** (2.0 / 3.0)
-LINE = re.compile(r"(spread|preload)\s+ubar=.*Fn=([+-][\d.]+).*area=\s*([\d.]+)")
 
 
 def md(params: Parameters):
@@ -84,8 +84,9 @@ def log_table(scene: str, log: str, overrides: list[str]) -> None:
         m = LINE.match(line)
         if m and float(m.group(3)) > 0.0:
             points.append((m.group(1), math.sqrt(float(m.group(3)) / math.pi), -float(m.group(2))))
-    a_c_md = sphere.md_pull_off(lam)[1] * md_scale["radius"]  # the reference reaches past the pull-off, so that a
-    ref = same_law_reference(params, max(1.02 * max(a for _, a, _ in points), 1.2 * a_c_md))  # log before it reads
+    # the reference reaches past the pull-off, so that a log that ends before it reads too
+    a_c_md = sphere.md_pull_off(lam)[1] * md_scale["radius"]
+    ref = same_law_reference(params, max(1.02 * max(a for _, a, _ in points), 1.2 * a_c_md))
     print(f"\n{log}: {len(points)} states of {scene}")
     print("| step | a (L0) | P (E L0^2) | FE - same law | same law - MD | FE - MD |")
     print("|---|---|---|---|---|---|")
