@@ -37,7 +37,7 @@ from ..laws.normal import NormalLaw, normal_law
 from ..params import Parameters
 
 __all__ = ["disk_displacement", "ring_influence", "cut_traction", "SphereOnHalfSpace", "EdgeSolution", "pull_off",
-           "SameLawReference", "same_law_reference"]
+           "SameLawReference", "same_law_reference", "halfspace_of", "reference_radii"]
 
 RINGS_PER_ZONE = 16  # ring width: the length E* W / T_max^2 (the cohesive zone's scale, ~ 1 / lambda^2) / 16
 RADII_PER_RADIUS_SCALE = 100  # the reference path's step in the contact radius
@@ -200,10 +200,11 @@ class SameLawReference:
         return float(self._spline(a))
 
 
-def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere") -> SameLawReference | None:
+def halfspace_of(params: Parameters, profile: str = "sphere", edge_gap: float | None = None) -> SphereOnHalfSpace | None:
     """The adhesive sphere of ``params`` (its normal law, far gap and contact band; E* of its small strains) on a
-    half-space, along the edge path up to the contact radius ``a_max``; None when it needs more than MAX_RINGS
-    rings (a cohesive zone too narrow against the band)."""
+    half-space, on rings of E* W_adh / T_max^2 / RINGS_PER_ZONE; None when that needs more than MAX_RINGS rings (a
+    cohesive zone too narrow against the band). ``edge_gap``: the gap (L0) whose radius the edge control holds
+    (the contact edge g_max unless given; a larger one is a radius inside the cohesive zone)."""
     ad, R = params.adhesion, params.geometry.R
     E_star = analytic.effective_modulus(params.material.E, params.material.nu)
     dr = E_star * ad.W_adh / ad.T_max**2 / RINGS_PER_ZONE
@@ -212,10 +213,24 @@ def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere"
         return None
     law = normal_law(ad)
     max_step = 0.1 * law.rho if ad.law == "dugdale" else None  # a ring's step within a tenth of the Dugdale ramp
-    halfspace = SphereOnHalfSpace(cut_traction(law, params.contact.far_gap), R, E_star, band, dr, ad.g_max, profile,
-                                  max_step)
-    scale = sphere.md_scales(R, E_star, ad.W_adh)["radius"]
-    step = scale / RADII_PER_RADIUS_SCALE
-    path = halfspace.edge_path(np.arange(2.0 * step, a_max + 2.0 * step, step))
+    return SphereOnHalfSpace(cut_traction(law, params.contact.far_gap), R, E_star, band, dr,
+                             ad.g_max if edge_gap is None else edge_gap, profile, max_step)
+
+
+def reference_radii(params: Parameters, a_max: float) -> np.ndarray:
+    """The radii (L0) of a reference path up to ``a_max``: steps of Maugis-Dugdale's radius scale / 100."""
+    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+    step = sphere.md_scales(params.geometry.R, E_star, params.adhesion.W_adh)["radius"] / RADII_PER_RADIUS_SCALE
+    return np.arange(2.0 * step, a_max + 2.0 * step, step)
+
+
+def same_law_reference(params: Parameters, a_max: float, profile: str = "sphere",
+                       edge_gap: float | None = None) -> SameLawReference | None:
+    """P(a) of the adhesive sphere of ``params`` on a half-space (:func:`halfspace_of`), along the edge path up to
+    the radius ``a_max`` of the gap ``edge_gap``; None when it needs more than MAX_RINGS rings."""
+    halfspace = halfspace_of(params, profile, edge_gap)
+    if halfspace is None:
+        return None
+    path = halfspace.edge_path(reference_radii(params, a_max))
     P_c, a_c = pull_off(path)
     return SameLawReference(np.array([s.a for s in path]), np.array([s.P for s in path]), P_c, a_c)
