@@ -24,19 +24,17 @@ from scipy.interpolate import CubicSpline
 from capslide.config import load_config, scene_path
 from capslide.params import Parameters
 from capslide.studies.halfspace_sphere import halfspace_of, pull_off, reference_radii
-from capslide.studies.verification_3d import LEVEL_OVER_RANGE
+from capslide.studies.verification_3d import LEVEL_OVER_RANGE, level_radius
 
 RADII = (5.0, 7.0, 9.0, 10.0, 11.0, 11.5, 12.0, 12.5)  # L0, exact radii of the gap read
 OFFSETS = 40
 
 
 def read_crossing(r: np.ndarray, gap: np.ndarray, level: float, width: float, offset: float) -> float:
-    """Where the gap (on the fine radii r) first rises through ``level``, read from nodes ``width`` apart starting
-    at ``offset``, linearly between the two nodes around the crossing."""
+    """Where the gap (on the fine radii r) first rises through ``level``, read as the FE reads it
+    (:func:`level_radius` on one radial line of nodes ``width`` apart, starting at ``offset``)."""
     nodes = np.arange(offset, r[-1], width)
-    v = np.interp(nodes, r, gap) - level
-    i = int(np.argmax(v > 0.0))
-    return float(nodes[i - 1] + (nodes[i] - nodes[i - 1]) * (-v[i - 1]) / (v[i] - v[i - 1]))
+    return level_radius(nodes, np.zeros_like(nodes), np.interp(nodes, r, gap), level)
 
 
 def table(params: Parameters, widths: list[float]) -> None:
