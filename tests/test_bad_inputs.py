@@ -155,6 +155,8 @@ COMMAND_LINES = [  # (argv after "capslide", words of the one-line message); {t}
     (["verify", "{c}", "--scene", "dmt", "-o", "{t}/v.csv"],
      ["scene = 'dmt'", "packaged scenes (cap, experiment, hertz, jkr, sphere, sphere_dugdale3, sphere_hertz, sphere_md3, "
      "sphere_md5)"]),
+    (["run", "--scene", "sphere", "--set", "material.nu=0.42", "-o", "{t}/x.nc"],
+     ["material.nu = 0.42", "mesh.element = H1", "locks beyond nu = 0.4", "mesh.formulation = mixed (H1/P0"]),
     (["stability", "{t}/absent.yaml", "{c}", "--cases", "{t}", "-o", "{t}/s.md"], ["absent.yaml"]),
     (["convergence", "{c}", "--cases", "{t}", "-o", "{t}/c.md"], ["config.yaml", "unknown key 'adhesion'"]),
 ]

@@ -9,6 +9,8 @@ positive). At each load:
   smallest load, then force control goes through the loads): the contact radius from the pressure's second moment
   (a^2 = 5/2 int p r^2 dA / int p dA, exact for the Hertz pressure), the radius sqrt(A / pi) of the compressive area
   (Tn >= 0, from the nodal gaps: first order in the mesh size), and the largest surface-point pressure against p0;
+  and the second-moment radius and the peak against the same repulsive law on a half-space
+  (:mod:`capslide.studies.halfspace_hertz`: Hertz but for the law's compliance);
 * adhesive: the radius of the contact area (g_n <= g_max, where the tension peaks: the edge of the Maugis-Dugdale
   contact, where the Dugdale stress starts) against the Maugis-Dugdale radius at P and the scene's lambda; the load
   the Maugis-Dugdale solution gives at the FE radius, relative to |P_c|; and the pull-off (the largest tensile force
@@ -41,6 +43,7 @@ from ..model.constraints import FixedHeight
 from ..model.system import CapModel, History
 from ..params import Parameters
 from ..states import Phase
+from .halfspace_hertz import hertz_law_reference
 from .halfspace_sphere import same_law_reference
 from .verification import (
     Recording,
@@ -85,7 +88,7 @@ def sphere_sweep(params: Parameters, scene: str, progress=None, saved=None, save
             rows.append(VerificationRow(scene, "radius_area", P, math.sqrt(rec.area_compressive / math.pi), a_hertz))
             rows.append(VerificationRow(scene, "peak_pressure", P, float(rec.traction_n.max()),
                                         float(sphere.hertz_sphere_peak_pressure(P, R, E_star))))
-        return rows
+        return rows + _hertz_same_law_rows(params, scene, rows)
     lam = sphere.maugis_parameter_sphere(R, E_star, a.W_adh, a.T_max)
     scales = sphere.md_scales(R, E_star, a.W_adh)
     force, length = scales["load"], scales["radius"]
@@ -140,6 +143,16 @@ def _same_law_rows(params: Parameters, scene: str, radii: dict[float, float], F_
             for P, a in radii.items()]
     return rows + [VerificationRow(scene, "pull_off_same_law", math.nan, -F_max, reference.P_c,
                                    {"radius": round(reference.a_c, 4)})]
+
+
+def _hertz_same_law_rows(params: Parameters, scene: str, rows: list[VerificationRow]) -> list[VerificationRow]:
+    """The FE's second-moment radius and peak pressure (``rows``) against the same repulsive law's on a half-space
+    at the same loads: Hertz apart from the law's compliance."""
+    fe = {(r.quantity, r.load): r.fe for r in rows}
+    loads = sorted({r.load for r in rows})
+    reference = hertz_law_reference(params, loads)
+    return [VerificationRow(scene, f"{name}_same_law", P, fe[name, P], getattr(reference[P], attr))
+            for P in loads for name, attr in (("radius", "radius_moment"), ("peak_pressure", "peak_pressure"))]
 
 
 def _level_rows(params: Parameters, scene: str, at_loads, along_path, level: float) -> list[VerificationRow]:
