@@ -4,8 +4,8 @@ over bands of r - a, for each spread and load state of a verification sweep's ch
 
 `capslide verify` deletes its sweep checkpoint when the table is written; copy it while the sweep runs (docs/
 three_d.md). The checkpoint's arrays are read without the code-version check that a resume makes: only the records
-are used. Loads relative to the law's |P_c| (from its path up to the largest level radius shown, which must lie past
-the pull-off), "+" the FE less tensile.
+are used. Loads relative to the law's |P_c| (its path runs past the pull-off whether or not the sweep did), "+" the FE
+less tensile.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/sphere_load_by_band.py CHECKPOINT.npz [--scene sphere_dugdale3]
         [--set KEY=VALUE ...] [--from-radius 7]
@@ -22,6 +22,7 @@ import numpy as np
 from capslide.config import load_config, scene_path
 from capslide.fem.surface import SurfaceQuadrature
 from capslide.io.checkpoint import read_arrays, records_of
+from capslide.laws import analytic, sphere
 from capslide.model.build import mesh_of
 from capslide.params import Parameters
 from capslide.states import Phase
@@ -42,7 +43,10 @@ def band_table(params: Parameters, checkpoint: Path, from_radius: float) -> None
               if rec.phase in (Phase.SPREAD, Phase.PRELOAD)]
     states = [(i, rec, a) for i, rec, a in states if math.isfinite(a) and a >= from_radius]
     halfspace = halfspace_of(params, edge_gap=level)
-    P_c, _ = pull_off(halfspace.edge_path(reference_radii(params, 1.02 * max(a for _, _, a in states))))
+    E_star = analytic.effective_modulus(params.material.E, params.material.nu)
+    past_pull_off = 1.5 * sphere.md_scales(params.geometry.R, E_star, ad.W_adh)["radius"]  # JKR's: 1.04 of the scale
+    P_c, _ = pull_off(halfspace.edge_path(reference_radii(params, max(1.02 * max(a for _, _, a in states),
+                                                                      past_pull_off))))
     names = [f"{lo:g} to {hi:g}" for lo, hi in zip(BANDS[:-1], BANDS[1:])]
     print(f"| record | phase | a, level (L0) | P, FE | P, law | P - P_law | {' | '.join(names)} |")
     print("|" + "---|" * (6 + len(names)))
