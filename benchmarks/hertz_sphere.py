@@ -30,6 +30,7 @@ import numpy as np
 from capslide.config import load_config
 from capslide.fem.assembly import rigid_body_modes
 from capslide.fem.hex_mesh import SphereCapSpec, sphere_cap_mesh
+from capslide.laws import sphere
 from capslide.loadpath.contact_patch import contact_patch
 from capslide.loadpath.continuation import solve_constrained
 from capslide.model.constraints import FixedHeight
@@ -68,7 +69,7 @@ def run(h0: float, depths: list[float], nu: float = 0.4, formulation: str = "dis
         Tn = np.maximum(Tn, 0.0)
         w = model.contact.quad.weight
         r2 = xs[..., 0] ** 2 + xs[..., 1] ** 2
-        a_moment = math.sqrt(2.5 * np.sum(Tn * r2 * w) / np.sum(Tn * w))
+        a_moment = sphere.hertz_moment_radius(Tn * w, r2)
         positions = mesh.nodes + u.reshape(-1, 3)
         patch = contact_patch(positions, h - positions[:, 2] - p.adhesion.g_eq, mesh.surface_quads,
                               model.contact.multiplicity)

@@ -60,3 +60,11 @@ def test_the_maugis_parameter_of_the_experiment():
     sigma0 = sphere.dugdale_stress_for_lambda(3.0, R, E_star, w)
     assert sigma0 == pytest.approx(0.063e6, rel=0.02) and w / sigma0 == pytest.approx(0.44e-6, rel=0.03)
     assert sphere.maugis_parameter_sphere(R, E_star, w, sigma0) == pytest.approx(3.0, rel=1e-14)
+
+
+def test_the_moment_radius_of_the_hertz_pressure_is_its_radius():
+    """a^2 = 5/2 int p r^2 dA / int p dA for p = p0 sqrt(1 - r^2 / a^2), on fine rings."""
+    edges = np.linspace(0.0, 3.0, 30001)
+    r = 0.5 * (edges[1:] + edges[:-1])
+    p = np.sqrt(np.clip(1.0 - (r / 2.0) ** 2, 0.0, None))
+    assert sphere.hertz_moment_radius(p * np.pi * np.diff(edges**2), r**2) == pytest.approx(2.0, rel=1e-6)

@@ -23,8 +23,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-__all__ = ["hertz_sphere_radius", "hertz_sphere_peak_pressure", "hertz_sphere_approach", "maugis_parameter_sphere",
-           "dugdale_stress_for_lambda",
+__all__ = ["hertz_sphere_radius", "hertz_moment_radius", "hertz_sphere_peak_pressure", "hertz_sphere_approach",
+           "maugis_parameter_sphere", "dugdale_stress_for_lambda",
            "md_cohesive_ratio", "md_load", "md_approach", "md_pull_off", "md_zero_load_radius", "md_scales",
            "jkr_radius", "md_radius"]
 
@@ -38,6 +38,13 @@ def hertz_sphere_peak_pressure(P, R: float, E_star: float):
     """Hertz peak pressure p0 = 3 P / (2 pi a^2) (Johnson 1985, eq. 4.23)."""
     a = hertz_sphere_radius(P, R, E_star)
     return 3.0 * np.asarray(P, dtype=float) / (2.0 * math.pi * a**2)
+
+
+def hertz_moment_radius(force, r_squared) -> float:
+    """The contact radius from a pressure's second moment, a^2 = 5/2 sum(f r^2) / sum(f), exact for the Hertz
+    pressure p0 sqrt(1 - r^2 / a^2); ``force``: the pressure times the area at each point (any units), ``r_squared``:
+    the points' squared distance from the axis (length^2)."""
+    return math.sqrt(2.5 * np.sum(force * r_squared) / np.sum(force))
 
 
 def hertz_sphere_approach(P, R: float, E_star: float):

@@ -10,7 +10,6 @@ reference; what is left is the mesh, the finite strains and the body's finite si
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -61,9 +60,8 @@ def hertz_law_reference(params: Parameters, loads: list[float]) -> dict[float, H
     radii = np.arange(0.8 * min(a_hertz), min(1.2 * max(a_hertz), 0.9 * band) + RADIUS_STEP, RADIUS_STEP)
     path = halfspace.edge_path(radii)
     P = np.array([s.P for s in path])
-    moment = [math.sqrt(2.5 * np.sum(s.Tn * halfspace.r**2 * halfspace.ring_area) / np.sum(s.Tn * halfspace.ring_area))
-              for s in path]
-    radius_at, peak_at = CubicSpline(P, moment), CubicSpline(P, [s.Tn.max() for s in path])
     if not P[0] <= min(loads) <= max(loads) <= P[-1]:
         raise ValueError(f"loads {loads} outside the reference path's [{P[0]:.4g}, {P[-1]:.4g}]")
+    moment = [sphere.hertz_moment_radius(s.Tn * halfspace.ring_area, halfspace.r**2) for s in path]
+    radius_at, peak_at = CubicSpline(P, moment), CubicSpline(P, [s.Tn.max() for s in path])
     return {L: HertzLawState(L, float(radius_at(L)), float(peak_at(L))) for L in loads}

@@ -83,7 +83,7 @@ def sphere_sweep(params: Parameters, scene: str, progress=None, saved=None, save
             rec = states[P]
             a_hertz = float(sphere.hertz_sphere_radius(P, R, E_star))
             p = np.maximum(rec.traction_n, 0.0) * weight
-            a_moment = math.sqrt(2.5 * np.sum(p * (rec.x_surface**2 + rec.y_surface**2)) / np.sum(p))
+            a_moment = sphere.hertz_moment_radius(p, rec.x_surface**2 + rec.y_surface**2)
             rows.append(VerificationRow(scene, "radius", P, a_moment, a_hertz))
             rows.append(VerificationRow(scene, "radius_area", P, math.sqrt(rec.area_compressive / math.pi), a_hertz))
             rows.append(VerificationRow(scene, "peak_pressure", P, float(rec.traction_n.max()),
