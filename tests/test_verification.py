@@ -2,6 +2,7 @@
 
 import csv
 import math
+from types import SimpleNamespace
 
 import pytest
 
@@ -13,6 +14,7 @@ from capslide.loadpath.continuation import drain
 from capslide.model.build import build_model
 from capslide.params import Parameters
 from capslide.states import Phase, Status
+from capslide.studies import verification
 from capslide.studies.verification import VerificationRow, edge_controlled_sweep, read_tables, sweep
 
 from conftest import ROOT
@@ -115,6 +117,35 @@ def test_edge_controlled_sweep_of_a_stiff_law():
     assert 0.5 * states[0.0].area == pytest.approx(a0, rel=0.03)
     P_c = analytic.jkr_cylinder_pull_off(p.geometry.R, E_star, w)
     assert -F_max == pytest.approx(P_c, rel=0.05)
+
+
+def _stop_index(path_P: list[float], P: float) -> int | None:
+    """Where a load leg's ends(rec) stops a path of loads P = -Fn, called as a leg calls it: before the record is
+    appended."""
+    forces: list[float] = []
+    ends = verification._stop_past_load(lambda: list(forces), P)
+    for i, p in enumerate(path_P):
+        rec = SimpleNamespace(Fn=-p)
+        if ends(rec) is not None:
+            return i
+        forces.append(rec.Fn)
+    return None
+
+
+def test_a_load_leg_stops_where_the_path_crosses_the_load_even_on_a_jagged_path():
+    """The R = 1000 L0 Dugdale sweep's path after its load 0 (P = -Fn per step, E L0^2): the load +20 is crossed
+    between the states at 18.10 and 27.08, three steps after one where the load fell (8.92 to 8.64). The leg stops
+    there, so that those two states bracket it, and as early after a fall (a shortened path); it does not stop on a
+    jag of the unstable branch, before the path has been past its peak (the load rising at three steps in a row)."""
+    pull_off = [-30.0, -45.0, -42.0, -55.0, -64.0, -63.0, -60.0, -50.0, -20.0]  # a jag at -45 to -42
+    after_zero = [4.33, 5.31, 5.67, 8.92, 8.64, 12.94, 18.10, 27.08, 39.02]
+    path = pull_off + after_zero
+    assert _stop_index(path, 20.0) == path.index(27.08)  # the state after 18.10
+    shortened = pull_off + [4.33, 8.92, 8.64, 12.94, 27.08, 39.02]
+    assert _stop_index(shortened, 20.0) == shortened.index(27.08)  # the state after 12.94
+    assert _stop_index(path, -44.0) == path.index(-20.0)  # not the jag -45 to -42, before the peak
+    assert _stop_index(path, -55.0) == path.index(-50.0)  # -60 to -50, on the stable branch
+    assert _stop_index(path, 50.0) is None
 
 
 @pytest.mark.slow

@@ -239,8 +239,11 @@ def edge_controlled_sweep(model: CapModel, loads: list[float], records: list[Ste
     for P in sorted(loads):  # most tensile first
         if P in done:
             continue
+        if loop is None and done and -path_forces()[-1] >= P:  # a fresh leg after a load's
+            raise VerificationFailed(f"at P = {P}: the path's state of the load before is already at {-path_forces()[-1]:.6g}; "
+                                     f"two loads lie within one edge step (loading.approach_edge_step)")
         model.solver.invalidate()
-        until = lambda rec, P=P: Status.COMPLETED if _past_peak(path_forces()) and -rec.Fn >= P else None  # noqa: E731
+        until = _stop_past_load(path_forces, P)
         loop = loop if loop is not None else Loop.start(x, X, X_end, control)
         in_leg = _saving_inside_leg(observe, model, save, lambda: SavedSweep(loop.x, loop.value, list(records),
                                                                              dict(done), first, loop))
@@ -283,9 +286,21 @@ def _empty(history: History) -> bool:
     return all(v is None for v in (h.anchors, h.slip, h.pressure, h.networks, h.thresholds)) and h.time == 0.0
 
 
-def _past_peak(forces: list[float], n: int = 3) -> bool:
-    """Fn fell at each of the last ``n`` steps: the path is past its largest tensile force, on the stable branch."""
-    return len(forces) > n and all(b < a for a, b in zip(forces[-n - 1:-1], forces[-n:]))
+def _stop_past_load(path_forces, P: float):
+    """A load leg's ``ends(rec)``: completed where the step to ``rec`` crosses the load P on the stable branch.
+    ``path_forces()`` is Fn along the path so far, without ``rec``: a leg calls ``ends`` before its observer
+    appends the record."""
+    return lambda rec: Status.COMPLETED if _crossed_on_stable_branch([*path_forces(), rec.Fn], P) else None
+
+
+def _crossed_on_stable_branch(forces: list[float], P: float, n: int = 3) -> bool:
+    """The last step crossed the compressive load P = -Fn upward (from below P to at least P), and the path has
+    fallen in Fn at ``n`` steps in a row somewhere before: it is past its largest tensile force, on the stable
+    branch. The last two states then bracket P, however jagged the path is."""
+    if len(forces) < 2 or not -forces[-2] < P <= -forces[-1]:
+        return False
+    falls = [b < a for a, b in zip(forces[:-1], forces[1:])]
+    return any(all(falls[i:i + n]) for i in range(len(falls) - n + 1))
 
 
 def _equilibrium_at_load(model: CapModel, bracket, P: float, records: list[StepRecord], progress,
