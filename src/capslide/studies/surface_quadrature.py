@@ -15,8 +15,9 @@ import numpy as np
 
 from ..fem.mesh import Mesh
 from ..fem.surface import SurfaceQuadrature
+from ..laws.normal import normal_law
 from ..params import Parameters
-from .halfspace_sphere import cut_traction, halfspace_of, normal_law, reference_radii
+from .halfspace_sphere import cut_traction, halfspace_of, reference_radii
 
 __all__ = ["quadrature_loads"]
 
