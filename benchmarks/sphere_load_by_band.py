@@ -8,7 +8,10 @@ are used. Loads relative to the law's |P_c| (its path runs past the pull-off whe
 less tensile.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/sphere_load_by_band.py CHECKPOINT.npz [--scene sphere_dugdale3]
-        [--set KEY=VALUE ...] [--from-radius 7]
+        [--set KEY=VALUE ...] [--from-radius 7] [--band-scale 4.6416]
+
+--band-scale multiplies the bands' edges, so that a sphere whose mesh is scaled with Maugis-Dugdale's lengths (R =
+1000 L0: (R / 100 L0)^(2/3) = 4.6416) is read in the same bands as R = 100 L0.
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from capslide.studies.verification_3d import LEVEL_OVER_RANGE, level_radius
 BANDS = (-math.inf, -3.0, -1.0, -0.4, 0.0, 0.4, math.inf)  # r - a (L0)
 
 
-def band_table(params: Parameters, checkpoint: Path, from_radius: float) -> None:
+def band_table(params: Parameters, checkpoint: Path, from_radius: float, band_scale: float = 1.0) -> None:
     ad = params.adhesion
     level = ad.g_eq + LEVEL_OVER_RANGE * ad.W_adh / ad.T_max
     data = read_arrays(checkpoint)
@@ -47,7 +50,8 @@ def band_table(params: Parameters, checkpoint: Path, from_radius: float) -> None
     past_pull_off = 1.5 * sphere.md_scales(params.geometry.R, E_star, ad.W_adh)["radius"]  # JKR's: 1.04 of the scale
     P_c, _ = pull_off(halfspace.edge_path(reference_radii(params, max(1.02 * max(a for _, _, a in states),
                                                                       past_pull_off))))
-    names = [f"{lo:g} to {hi:g}" for lo, hi in zip(BANDS[:-1], BANDS[1:])]
+    bands = tuple(band_scale * b for b in BANDS)
+    names = [f"{lo:.4g} to {hi:.4g}" for lo, hi in zip(bands[:-1], bands[1:])]
     print(f"| record | phase | a, level (L0) | P, FE | P, law | P - P_law | {' | '.join(names)} |")
     print("|" + "---|" * (6 + len(names)))
     start = None
@@ -57,7 +61,7 @@ def band_table(params: Parameters, checkpoint: Path, from_radius: float) -> None
         r = np.hypot(rec.x_surface, rec.y_surface)
         P_fe = float(np.sum(rec.traction_n * weight))
         parts = []
-        for lo, hi in zip(BANDS[:-1], BANDS[1:]):
+        for lo, hi in zip(bands[:-1], bands[1:]):
             fe = (r - a >= lo) & (r - a < hi)
             law = (halfspace.r - a >= lo) & (halfspace.r - a < hi)
             diff = np.sum(rec.traction_n[fe] * weight[fe]) - np.sum(sol.Tn[law] * halfspace.ring_area[law])
@@ -72,9 +76,11 @@ def main() -> None:
     ap.add_argument("--scene", default="sphere_dugdale3")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="the sweep's --set options")
     ap.add_argument("--from-radius", type=float, default=7.0, help="the smallest level radius shown (L0)")
+    ap.add_argument("--band-scale", type=float, default=1.0,
+                    help="multiplies the bands' edges: (R / 100 L0)^(2/3) on a sphere scaled from R = 100 L0")
     args = ap.parse_args()
     band_table(Parameters.from_config(load_config([scene_path(args.scene)], args.set)), args.checkpoint,
-               args.from_radius)
+               args.from_radius, args.band_scale)
 
 
 if __name__ == "__main__":
