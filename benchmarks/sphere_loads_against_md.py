@@ -25,7 +25,7 @@ from capslide.io.checkpoint import read_arrays, records_of
 from capslide.laws import analytic, sphere
 from capslide.params import Parameters
 from capslide.states import Phase
-from capslide.studies.halfspace_sphere import halfspace_of, pull_off, reference_radii
+from capslide.studies.halfspace_sphere import SameLawReference, halfspace_of, pull_off, reference_radii
 from capslide.studies.verification import pull_off_reference
 from capslide.studies.verification_3d import LEVEL_OVER_RANGE, level_radius
 
@@ -47,32 +47,30 @@ def loads_table(params: Parameters, checkpoint: Path) -> None:
                    for r in records if r.phase == Phase.PRELOAD)
     halfspace = halfspace_of(params, edge_gap=level)
     path = halfspace.edge_path(reference_radii(params, 1.02 * max(a for _, a, _ in loads)))
-    P_c_law, a_c = pull_off(path)
+    law = SameLawReference(np.array([s.a for s in path]), np.array([s.P for s in path]), *pull_off(path))
 
     def contact_radius(sol) -> float:  # where the law's gap meets g_max, linear between its rings
         i = int(np.argmax(sol.g > ad.g_max))
         r, g = halfspace.r, sol.g
         return float(r[i - 1] + (r[i] - r[i - 1]) * (ad.g_max - g[i - 1]) / (g[i] - g[i - 1]))
 
-    radii = np.array([s.a for s in path])
-    P_law_at = CubicSpline(radii, [s.P for s in path])
-    contact_at = CubicSpline(radii, [contact_radius(s) for s in path])
+    contact_at = CubicSpline(law.radii, [contact_radius(s) for s in path])
     print("| P (E L0^2) | a, level | a, area | law's contact radius | FE - law | law - MD | FE - MD "
           "| FE - MD, the area's radius |")
     print("|---|---|---|---|---|---|---|---|")
     for P, a_level, a_area in loads:
-        P_law, a_law = float(P_law_at(a_level)), float(contact_at(a_level))
+        P_law, a_law = law.load_at(a_level), float(contact_at(a_level))
         print(f"| {P:+.1f} | {a_level:.3f} | {a_area:.3f} | {a_law:.3f} | {(P - P_law) / abs(P_c):+.2%} "
               f"| {(P_law - md_load(a_law)) / abs(P_c):+.2%} | {(P - md_load(a_law)) / abs(P_c):+.2%} "
               f"| {(P - md_load(a_area)) / abs(P_c):+.2%} |")
     F_max = max(r.Fn for r in records if r.phase == Phase.SPREAD)
     print(f"\npull-off: FE {-F_max:.4f}, Maugis-Dugdale {P_c:.4f} ({(-F_max - P_c) / abs(P_c):+.2%}), its law "
-          f"{P_c_law:.4f} ({(-F_max - P_c_law) / abs(P_c_law):+.2%}) E L0^2")
+          f"{law.P_c:.4f} ({(-F_max - law.P_c) / abs(law.P_c):+.2%}) E L0^2")
     past = []
     for r in records:
         a_level = level_radius(r.x_surface, r.y_surface, r.gap, level) if r.phase == Phase.SPREAD else np.nan
-        if np.isfinite(a_level) and a_c <= a_level <= radii[-1]:
-            past.append(f"{a_level / a_c:.2f}: {(-r.Fn - float(P_law_at(a_level))) / abs(P_c):+.2%}")
+        if np.isfinite(a_level) and law.a_c <= a_level <= law.radii[-1]:
+            past.append(f"{a_level / law.a_c:.2f}: {(-r.Fn - law.load_at(a_level)) / abs(P_c):+.2%}")
     print("edge-controlled states past the pull-off (a / a_c: FE - law): " + ", ".join(past))
 
 
