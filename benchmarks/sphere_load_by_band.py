@@ -24,7 +24,7 @@ import numpy as np
 
 from capslide.config import load_config, scene_path
 from capslide.fem.surface import SurfaceQuadrature
-from capslide.io.checkpoint import read_arrays, records_of
+from capslide.io.checkpoint import read_arrays, records_in
 from capslide.laws import analytic, sphere
 from capslide.model.build import mesh_of
 from capslide.params import Parameters
@@ -39,7 +39,7 @@ def band_table(params: Parameters, checkpoint: Path, from_radius: float, band_sc
     ad = params.adhesion
     level = ad.g_eq + LEVEL_OVER_RANGE * ad.W_adh / ad.T_max
     data = read_arrays(checkpoint)
-    records = records_of({k[len("record_"):]: v for k, v in data.items() if k.startswith("record_")})
+    records = records_in(data)
     mesh = mesh_of(params)
     weight = SurfaceQuadrature.on(mesh, params.mesh.surface_gauss_points).weight.ravel() * (2.0 if len(mesh.symmetry) else 1.0)
     states = [(i, rec, level_radius(rec.x_surface, rec.y_surface, rec.gap, level)) for i, rec in enumerate(records)

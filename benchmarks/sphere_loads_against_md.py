@@ -21,7 +21,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from capslide.config import load_config, scene_path
-from capslide.io.checkpoint import read_arrays, records_of
+from capslide.io.checkpoint import read_arrays, records_in
 from capslide.laws import analytic, sphere
 from capslide.params import Parameters
 from capslide.states import Phase
@@ -38,7 +38,7 @@ def loads_table(params: Parameters, checkpoint: Path) -> None:
     scales = sphere.md_scales(params.geometry.R, E_star, ad.W_adh)
     P_c = pull_off_reference(params)
     data = read_arrays(checkpoint)
-    records = records_of({k[len("record_"):]: v for k, v in data.items() if k.startswith("record_")})
+    records = records_in(data)
 
     def md_load(a: float) -> float:
         return float(sphere.md_load(a / scales["radius"], lam)) * scales["load"]

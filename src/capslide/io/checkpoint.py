@@ -40,7 +40,8 @@ from .atomic import replacing
 from .state_check import check_arrays, check_header, check_record_arrays, check_snapshot_arrays
 
 __all__ = ["STATE", "SavedCase", "CheckpointError", "CheckpointBusy", "CheckpointWriter", "checkpoint_path", "config_text",
-           "load_checkpoint", "write_arrays", "read_arrays", "array_sha", "record_arrays", "records_of", "state_arrays",
+           "load_checkpoint", "write_arrays", "read_arrays", "array_sha", "record_arrays", "records_of",
+           "prefixed_record_arrays", "records_in", "state_arrays",
            "path_state", "write_signed", "read_signed"]
 
 STATE = "state.npz"
@@ -145,6 +146,9 @@ def read_guarded(load, path: Path, what: str, error: type[Exception]):
         raise error(f"cannot read {what} '{path}': {err}") from None
 
 
+RECORD_PREFIX = "record_"  # the records' arrays in a file that holds more than records
+
+
 def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
     out = {name: np.array([getattr(r, name) for r in records], dtype=float) for name in RECORD_SCALARS}
     out.update({name: np.array([getattr(r, name) for r in records]) for name in RECORD_PROFILES})
@@ -153,7 +157,7 @@ def record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
 
 def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
     """The step records of :func:`record_arrays`' arrays, checked first (BadField naming a field)."""
-    check_record_arrays(data, "record_")
+    check_record_arrays(data, RECORD_PREFIX)
     out = []
     for i in range(len(data["phase"])):
         kw = {name: float(data[name][i]) for name in RECORD_SCALARS if name in data}  # older files: no time
@@ -165,6 +169,16 @@ def records_of(data: dict[str, np.ndarray]) -> list[StepRecord]:
         kw.update({name: data[name][i] for name in RECORD_PROFILES if name in data})  # older files: no y parts
         out.append(StepRecord(**kw))
     return out
+
+
+def prefixed_record_arrays(records: list[StepRecord]) -> dict[str, np.ndarray]:
+    """:func:`record_arrays` under :data:`RECORD_PREFIX`, for a file that holds other arrays too."""
+    return {RECORD_PREFIX + name: values for name, values in record_arrays(records).items()}
+
+
+def records_in(data: dict[str, np.ndarray]) -> list[StepRecord]:
+    """The step records stored by :func:`prefixed_record_arrays` among a file's arrays ``data``."""
+    return records_of({k.removeprefix(RECORD_PREFIX): v for k, v in data.items() if k.startswith(RECORD_PREFIX)})
 
 
 def _mark_rows(marks) -> list[list]:

@@ -22,7 +22,16 @@ from typing import Any
 
 from ..config import flatten
 from ..states import Status
-from .checkpoint import SavedCase, path_state, read_guarded, read_signed, record_arrays, records_of, state_arrays, write_signed
+from .checkpoint import (
+    SavedCase,
+    path_state,
+    prefixed_record_arrays,
+    read_guarded,
+    read_signed,
+    records_in,
+    state_arrays,
+    write_signed,
+)
 from .state_check import check_header
 
 __all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
@@ -75,7 +84,7 @@ def _text(normal: Mapping[str, Any]) -> str:
 def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> None:
     """Write the normal state ``saved`` (records, path state, wall time, ``ended``) computed for ``config``."""
     arrays, state = state_arrays(saved.state)
-    arrays.update({f"record_{k}": v for k, v in record_arrays(saved.records).items()})
+    arrays.update(prefixed_record_arrays(saved.records))
     status, reason = saved.ended if saved.ended is not None else (Status.COMPLETED, "")
     write_signed(Path(path), arrays, {"format": FORMAT, "normal_config": _text(normal_config(config)), **state,
                                       "elapsed": saved.elapsed, "status": int(status), "reason": reason})
@@ -107,7 +116,7 @@ def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, fl
     if _text(theirs) != _text(own):
         raise NormalStateError(f"normal state '{path}' was computed for another configuration "
                                f"({_first_difference(theirs, own)})")
-    records = records_of({k.removeprefix("record_"): v for k, v in data.items() if k.startswith("record_")})
+    records = records_in(data)
     status = Status(meta["status"])
     ended = None if status == Status.COMPLETED else (status, meta["reason"])
     return SavedCase(path_state(data, meta), records, [], meta["elapsed"], ended, f"normal state '{path}'"), preload

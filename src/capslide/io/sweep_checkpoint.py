@@ -21,7 +21,7 @@ import numpy as np
 
 from ..loadpath.continuation import Loop
 from ..loadpath.measures import StepRecord
-from .checkpoint import CheckpointError, read_guarded, read_signed, record_arrays, records_of, write_signed
+from .checkpoint import CheckpointError, prefixed_record_arrays, read_guarded, read_signed, records_in, write_signed
 
 __all__ = ["SavedSweep", "sweep_checkpoint_path", "save_sweep", "load_sweep"]
 
@@ -50,7 +50,7 @@ def _config_sha(config_yaml: str) -> str:
 
 def save_sweep(path: Path, config_yaml: str, saved: SavedSweep) -> None:
     """Write ``saved`` atomically, tied to the configuration text ``config_yaml``."""
-    arrays = {"x": np.asarray(saved.x, dtype=float), **{f"record_{k}": v for k, v in record_arrays(saved.records).items()}}
+    arrays = {"x": np.asarray(saved.x, dtype=float), **prefixed_record_arrays(saved.records)}
     header = {"kind": "verification sweep", "config_sha256": _config_sha(config_yaml), "X": float(saved.X),
               "done": [[float(P), int(i)] for P, i in saved.done.items()], "first": int(saved.first)}
     if saved.loop is not None:
@@ -82,7 +82,7 @@ def load_sweep(path: Path, config_yaml: str) -> SavedSweep:
             raise CheckpointError(f"sweep checkpoint '{path}' is not a verification sweep's")
         if meta.get("config_sha256") != _config_sha(config_yaml):
             raise CheckpointError(f"sweep checkpoint '{path}' was written for another configuration")
-        records = records_of({k[len("record_"):]: v for k, v in data.items() if k.startswith("record_")})
+        records = records_in(data)
         X = float(meta["X"])
         done = {float(P): int(i) for P, i in meta["done"]}
         first = int(meta["first"])
