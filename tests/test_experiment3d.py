@@ -11,7 +11,9 @@ from capslide.config import apply_settings, load_config, scene_path
 from capslide.io.checkpoint import path_state, state_arrays
 from capslide.io.state_check import check_header
 from capslide.loadpath.cap import Mark, PathState
+from capslide.model.build import mesh_spec
 from capslide.model.system import History
+from capslide.params import Parameters
 from capslide.states import Phase
 from capslide.studies.experiment_3d import normal_states, preload_guess, study_cases
 
@@ -40,6 +42,18 @@ def test_the_first_guess_tends_to_the_jkr_loads_of_the_sphere_facts(scene, A0, F
     config = apply_settings(scene, {"material.nu": 0.5})
     guess_mN = -preload_guess(config, A0, 1e4) * config["material"]["E"] * config["geometry"]["L0"] ** 2 * 1e3
     assert guess_mN == pytest.approx(Fn_mN, abs=0.006)
+
+
+def test_the_annulus_preset_is_the_coarse_bulk_with_rings_of_10_um_on_the_contact_line():
+    """The peaks' mesh check (docs/experiment3d.md) runs the cases at preset=annulus: the mesh of the coarse preset
+    plus the contact-line annulus, the same mesh as the explicit keys it stands for."""
+    def spec(*settings):
+        return mesh_spec(Parameters.from_config(load_config([scene_path("experiment")], list(settings))))
+
+    annulus, coarse = spec("preset=annulus"), spec("preset=coarse")
+    assert annulus == spec("mesh.line_band=[120,330]", "mesh.line_refinement=4")
+    assert annulus.line_band == (120.0, 330.0) and annulus.line_size == pytest.approx(annulus.h0 / 4)
+    assert annulus.h0 == coarse.h0 and coarse.line_band is None
 
 
 def test_tau_stays_fixed_when_lambda_changes():
