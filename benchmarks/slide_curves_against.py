@@ -1,0 +1,61 @@
+"""Ft and the contact area of experiment cases along their slides, against the first file's, at given stage
+travels (a mesh or lambda check of one case): each curve interpolated linearly between its slide steps, in mN, mm^2
+and um (capslide.studies.experiment_3d.features). A travel past a file's last step is left blank. Then each file's
+peak and how its slide ended.
+
+    .venv/bin/python benchmarks/slide_curves_against.py a019_ann4.nc a019_ann8.nc --ubar 5 10 20 30 34
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from capslide.studies.experiment_3d import features
+
+
+def at(c: dict, key: str, ubar: float) -> float:
+    """``c[key]`` at the travel ``ubar`` (um), linearly between steps; NaN past the last step."""
+    u = c["ubar"]
+    return float(np.interp(ubar, u, c[key])) if len(u) and ubar <= u[-1] + 1e-9 else float("nan")
+
+
+def cell(value: float, fmt: str) -> str:
+    return "" if np.isnan(value) else fmt.format(value)
+
+
+def table(cases: list[dict], travels) -> list[str]:
+    """Markdown rows: ubar, then per file Ft and A, and for the others their difference from the first (%)."""
+    head, rule = ["ubar (um)"], ["---"]
+    for i, c in enumerate(cases):
+        head += [f"Ft {c['case']}", f"A {c['case']}"] + ([] if i == 0 else ["Ft against first", "A against first"])
+    rows = ["| " + " | ".join(head) + " |", "|" + "|".join(rule * len(head)) + "|"]
+    for u in travels:
+        ref = (at(cases[0], "Ft", u), at(cases[0], "area", u))
+        cells = [f"{u:g}"]
+        for i, c in enumerate(cases):
+            Ft, A = at(c, "Ft", u), at(c, "area", u)
+            cells += [cell(Ft, "{:.2f}"), cell(A, "{:.4f}")]
+            if i:
+                cells += [cell(100 * (Ft / ref[0] - 1), "{:+.1f} %"), cell(100 * (A / ref[1] - 1), "{:+.1f} %")]
+        rows.append("| " + " | ".join(cells) + " |")
+    return rows
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("files", nargs="+", help="case files (.nc) of one case; the first is the reference")
+    ap.add_argument("--ubar", type=float, nargs="+", default=[5, 10, 15, 20, 25, 30], help="stage travels (um)")
+    args = ap.parse_args(argv)
+    cases = [features(f) for f in args.files]
+    print("\n".join(table(cases, args.ubar)))
+    print()
+    for c in cases:
+        print(f"{c['case']}: A0 {c['A0']:.4f} mm2, Fn0 {c['Fn0']:+.4f} mN, peak Ft {c['peak_Ft']:.2f} mN at "
+              f"{c['travel_to_peak']:.2f} um (area lost {c['area_loss_pct']:.0f} %), {c['outcome']} at "
+              f"{c['ubar_end']:.2f} um with {c['area_end_pct']:.0f} % of A0")
+
+
+if __name__ == "__main__":
+    main()
