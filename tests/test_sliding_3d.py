@@ -240,15 +240,22 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert "sliding" in table.read_text() and panels.stat().st_size > 0
 
 
-@pytest.mark.parametrize(("status", "outcome"), [("diverged", "stopped"), ("detached", "vanished")])
-def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, status, outcome):
-    """A slide that found no equilibrium on (exit 4: kept by the experiment3d workflow) or lost its contact ends the
-    table's row with its last Ft, not a sliding onset."""
+REGROWN = ("slide: the contact came off at ubar = 35.76 (its area fell to 25300; the next equilibrium found "
+           "re-adheres at 114600)")  # the regrowth rule's reason, as an experiment case file keeps it
+
+
+@pytest.mark.parametrize(("status", "reason", "outcome"), [("diverged", "slide: more than 8 cut-backs", "stopped"),
+                                                           ("detached", "slide: the contact vanished", "vanished"),
+                                                           ("detached", REGROWN, "re-adhered")])
+def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, status, reason, outcome):
+    """A slide that found no equilibrium on (exit 4: kept by the experiment3d workflow), lost its contact, or was
+    ended by the regrowth rule (a snap from a peeling contact to a re-adhered one, which need not have come off)
+    ends the table's row with its last Ft, not a sliding onset."""
     from capslide.studies.experiment_3d import features
 
     _, _, ds = di_sphere
     short = ds.load().copy()
-    short.attrs["status"] = status
+    short.attrs["status"], short.attrs["status_reason"] = status, reason
     short["onset_ubar"] = np.nan
     path = tmp_path / "short.nc"
     short.to_netcdf(path)

@@ -128,12 +128,14 @@ def test_a_snap_from_a_peeling_contact_to_a_grown_one_is_its_coming_off():
     contact that was not peeling, is not."""
     from types import SimpleNamespace
 
-    from capslide.loadpath.slide_rules import Mark, regrowth_check
+    from capslide.loadpath.slide_rules import REGROWTH, Mark, regrowth_check
 
     state = SimpleNamespace(marks=[Mark(Phase.SLIDE, 38.4755, 224.2, 7966.5, 6498.6, 21923.1),
                                    Mark(Phase.SLIDE, 38.4855, 161.9, 1562.8, 5260.6, 9997.0)])
     rule = regrowth_check(state)
-    assert "came off at ubar = 38.4855 (its area fell to 9997" in rule(SimpleNamespace(phase=Phase.SLIDE, area=118219.9))
+    reason = rule(SimpleNamespace(phase=Phase.SLIDE, area=118219.9))
+    assert "came off at ubar = 38.4855 (its area fell to 9997" in reason
+    assert REGROWTH in reason  # what the experiment table reads as the outcome re-adhered
     assert rule(SimpleNamespace(phase=Phase.SLIDE, area=8000.0)) is None
     assert rule(SimpleNamespace(phase=Phase.SLIDE, area=1.1 * 9997.0)) is None
     state.marks = state.marks[::-1]  # growing before the snap: not peeling

@@ -14,6 +14,7 @@ from .style import BLUE, DOUBLE_COLUMN, GREEN, ORANGE, PURPLE
 __all__ = ["fig_experiment3d_panels", "fig_experiment3d_outlines"]
 
 _COLORS = ("k", BLUE, ORANGE, GREEN, PURPLE, "0.55", "tab:red", "tab:brown")
+_ENDED = {"vanished": " (vanished)", "re-adhered": " (ended by a snap)"}  # the legend's note on a slide ended short
 
 
 def fig_experiment3d_panels(cases: list[dict]):
@@ -26,7 +27,7 @@ def fig_experiment3d_panels(cases: list[dict]):
     for k, c in enumerate(main):
         w, color = window(c), _COLORS[k % len(_COLORS)]
         t, Ft, A = c["time"][w], c["Ft"][w], c["area"][w]
-        label = f"$A_0 = {c['A0']:.2f}$ mm$^2$" + (" (vanished)" if c["outcome"] == "vanished" else "")
+        label = f"$A_0 = {c['A0']:.2f}$ mm$^2$" + _ENDED.get(c["outcome"], "")
         a.plot(t, Ft, color=color, lw=1.0, label=label)
         b.plot(t, A, color=color, lw=1.0)
         if np.isfinite(c["t_peak"]):

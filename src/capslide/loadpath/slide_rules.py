@@ -16,8 +16,8 @@ import numpy as np
 from ..states import Phase
 from .measures import fully_sliding
 
-__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "AREA_JUMP", "jump_check", "regrowth_check", "ONSET_BRACKET",
-           "onset_bracket", "onset_check", "STEADY_TOLERANCE", "steady_sliding", "either"]
+__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "AREA_JUMP", "jump_check", "REGROWTH", "regrowth_check",
+           "ONSET_BRACKET", "onset_bracket", "onset_check", "STEADY_TOLERANCE", "steady_sliding", "either"]
 
 
 @dataclass(frozen=True)
@@ -92,6 +92,9 @@ def jump_check(state, largest: float = AREA_JUMP):
     return rejects
 
 
+REGROWTH = "the next equilibrium found re-adheres"  # in the reason of a leg the regrowth rule ended
+
+
 def regrowth_check(state, largest: float = AREA_JUMP):
     """A snap from a peeling contact (its area smaller at the last mark than at the one before) to a state whose area
     grew by more than ``largest``: the contact came off, and the continuation found it re-adhered at once, which the
@@ -105,8 +108,8 @@ def regrowth_check(state, largest: float = AREA_JUMP):
         before, last = state.marks[-2], state.marks[-1]
         if last.phase != rec.phase or not last.area < before.area or not rec.area > (1.0 + largest) * last.area:
             return None
-        return (f"the contact came off at ubar = {last.ubar:.6g} (its area fell to {last.area:.6g}; the next "
-                f"equilibrium found re-adheres at {rec.area:.6g})")
+        return (f"the contact came off at ubar = {last.ubar:.6g} (its area fell to {last.area:.6g}; "
+                f"{REGROWTH} at {rec.area:.6g})")
     return vanishes
 
 

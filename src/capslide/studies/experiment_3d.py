@@ -14,11 +14,12 @@ preload to an area ends within its tolerance, or, where the area jumps over the 
 by a face, on one side of the jump); ``Fn0``, its normal load (compressive > 0, as the paper's figure 5);
 ``peak_Ft`` and ``Ft_over_A_at_peak`` (MPa); ``area_loss_pct``, 1 - A / A0 at the peak; ``extent_ratio_at_peak``
 (the x extent over the y width); ``travel_to_peak`` (the stage's travel, um) and ``t_peak`` = travel / v;
-``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there) or ``vanished`` (the
-contact came off, at ``Ft_end`` = the last Ft), ``stopped`` (the slide found no equilibrium on: a fold, or no
-convergence at the smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide);
-``ubar_end`` (um) and ``area_end_pct`` (A / A0, %) at the slide's last converged step: how much contact a
-``vanished`` case had left where its slide ended.
+``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there), ``vanished`` (the
+contact came off, at ``Ft_end`` = the last Ft), ``re-adhered`` (the regrowth rule ended the slide: the peeling
+contact snapped to a state with more area, :func:`capslide.loadpath.slide_rules.regrowth_check`; whether it came
+off is read from ``area_end_pct``), ``stopped`` (the slide found no equilibrium on: a fold, or no convergence at the
+smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide); ``ubar_end`` (um) and
+``area_end_pct`` (A / A0, %) at the slide's last converged step: how much contact a case that ended short had left.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import yaml
 
 from ..io.reading import open_result
 from ..laws import analytic, sphere
+from ..loadpath.slide_rules import REGROWTH
 from ..states import Phase
 
 __all__ = ["TABLE_COLUMNS", "study_cases", "normal_states", "case_name", "preload_guess", "features", "read_cases",
@@ -110,7 +112,8 @@ def features(path: Path) -> dict:
     if math.isfinite(onset):
         outcome, Ft_end = "sliding", float(ds["onset_Ft"]) * mN
     elif status == "detached":
-        outcome, Ft_end = "vanished", float(c["Ft"][-1]) if len(slide) else math.nan
+        outcome = "re-adhered" if REGROWTH in str(ds.attrs.get("status_reason", "")) else "vanished"
+        Ft_end = float(c["Ft"][-1]) if len(slide) else math.nan
     elif status == "diverged":  # no equilibrium found on (a fold, or Newton's failure): the last converged Ft
         outcome, Ft_end = "stopped", float(c["Ft"][-1]) if len(slide) else math.nan
     else:
