@@ -35,6 +35,14 @@ from capslide.params import Parameters
 from capslide.studies.experiment_3d import study_cases
 
 
+def study_checkpoint(checkpoint: str, case: str, sets: list[str]) -> tuple[dict, object]:
+    """The config settings of the `experiment` study's ``case`` with the ``key=value`` ``sets``, and the case's
+    checkpoint read for them."""
+    settings = {**study_cases(load_config([scene_path("experiment")]))[case],
+                **{k: yaml.safe_load(v) for k, v in (s.split("=", 1) for s in sets)}}
+    return settings, load_checkpoint(checkpoint, config_text(load_config([scene_path("experiment")], settings=settings)))
+
+
 def tangent_check(params: Parameters, saved, step: float) -> None:
     model = build_model(params)
     state = saved.state
@@ -151,18 +159,14 @@ def main() -> None:
     ap.add_argument("--set", action="append", default=[],
                     help="key=value of the checkpoint's case besides the study's (e.g. friction.eps_t=10)")
     args = ap.parse_args()
-    case = study_cases(load_config([scene_path("experiment")]))[args.case]
-    changed = {k: yaml.safe_load(v) for k, v in (s.split("=", 1) for s in args.set)}
-    saved = load_checkpoint(args.checkpoint, config_text(load_config([scene_path("experiment")],
-                                                                     settings={**case, **changed})))
-    tangent_check(Parameters.from_config(load_config([scene_path("experiment")], settings={**case, **changed})), saved,
-                  args.step)
+    settings, saved = study_checkpoint(args.checkpoint, args.case, args.set)
+    tangent_check(Parameters.from_config(load_config([scene_path("experiment")], settings=settings)), saved, args.step)
     if args.ubar is not None:
         report_failures()
         if args.active_set:
             probe_active_set()
         params = Parameters.from_config(load_config([scene_path("experiment")],
-                                                    settings={**case, **changed, "loading.ubar_max": args.ubar}))
+                                                    settings={**settings, "loading.ubar_max": args.ubar}))
         res = run_case(params, resume=saved)
         print(f"{res.status.label} at ubar = {res.records[-1].ubar:.4f} ({res.reason or 'to the end'})")
 
