@@ -232,6 +232,41 @@ def test_a_jump_of_the_contact_area_is_cut_back():
     assert step(4.59) is None and step(6.72, Phase.PRELOAD) is None
 
 
+def test_a_jump_found_at_two_step_lengths_repeats():
+    """AreaJump.repeats: the last two steps the rule rejected from the path's last mark found the same area, within a
+    quarter of the jump (the experiment's snap at 34.6 um: 31,430 then 32,291 um^2 from 41,430). Not a change that
+    halves with the step, not jumps either way, not a single one, not once the path has a new mark, and not right
+    after a smallest step it sent the slide to that found no jump."""
+    from types import SimpleNamespace
+
+    from capslide.loadpath.slide_rules import Mark, jump_check
+
+    def rule_after(*areas, last=41430.0):
+        state = SimpleNamespace(marks=[Mark(Phase.SLIDE, 34.6, -600.0, 2e4, 8e3, last)])
+        rule = jump_check(state)
+        assert all(rule(SimpleNamespace(phase=Phase.SLIDE, area=a)) is not None for a in areas)
+        return rule, state
+
+    assert rule_after(31430.0, 32291.0)[0].repeats()
+    assert rule_after(60000.0, 20000.0, 31430.0, 32291.0)[0].repeats()  # the last two count
+    assert not rule_after(31430.0)[0].repeats()
+    assert not rule_after(20000.0, 30000.0)[0].repeats()  # 10,000 apart: more than a quarter of the jump of 21,430
+    assert not rule_after(60000.0, 25000.0)[0].repeats()
+    rule, state = rule_after(31430.0, 32291.0)
+    assert rule.repeats()  # the slide goes on at its smallest step
+    mark = lambda ubar: Mark(Phase.SLIDE, ubar, -600.0, 2e4, 8e3, 41000.0)  # noqa: E731
+    jump = lambda *areas: [rule(SimpleNamespace(phase=Phase.SLIDE, area=a)) for a in areas]  # noqa: E731
+    state.marks = [state.marks[-1], mark(34.61)]  # that step found no jump: the fold lies further on
+    assert not rule.repeats()
+    jump(31000.0)
+    assert not rule.repeats()  # one rejection from the new mark
+    jump(31500.0)
+    assert not rule.repeats()  # two, but right after a smallest step that found no jump: the halvings bisect
+    state.marks = [state.marks[-1], mark(34.62)]
+    jump(31000.0, 31500.0)
+    assert rule.repeats()
+
+
 def test_steady_sliding_needs_three_fully_sliding_steps_with_nothing_changing():
     """Steady: the last two marks and the new step slide fully, Ft and the area change by at most 1e-8 (relative)
     in each step, and no gap by more than 1e-8 r0 in the last one; the gaps are read only when the rest holds."""

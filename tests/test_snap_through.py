@@ -158,6 +158,36 @@ def test_a_snap_that_the_leg_calls_vanishing_ends_it_detached(paper_config, monk
     assert followed.records[-1].ubar == pytest.approx(1.0)
 
 
+def test_a_jump_found_at_two_step_lengths_goes_on_at_the_smallest_step(paper_config, monkeypatch):
+    """A fold at the first slide mark past ubar = 0.5 L0: every step from it finds the contact area 30 % smaller
+    (another equilibrium). The area-jump rule rejects the step, its half finds the same area, and the next step is
+    the smallest, where the jump stands (AreaJump.repeats): three solves from that mark instead of halvings down to
+    the smallest step."""
+    from dataclasses import replace
+
+    measure, solved_step, steps = continuation.measure, continuation._solved_step, []
+
+    def jumped(model, x, history, phase, ubar, *args):
+        rec = measure(model, x, history, phase, ubar, *args)
+        return replace(rec, area=0.7 * rec.area) if phase == Phase.SLIDE and steps[-1][0] >= 0.5 else rec
+
+    def counted(model, loop, leg, history, target, *args):
+        if leg.phase == Phase.SLIDE:
+            steps.append((loop.value, target))
+        return solved_step(model, loop, leg, history, target, *args)
+
+    monkeypatch.setattr(continuation, "measure", jumped)
+    monkeypatch.setattr(continuation, "_solved_step", counted)
+    p = _params(paper_config, "solver.snap_through=true")
+    res = run_case(p)
+    assert res.status == Status.COMPLETED, res.reason
+    fold = min(start for start, _ in steps if start >= 0.5)
+    (_, first), (_, second), (_, last) = [step for step in steps if step[0] == fold]
+    assert second - fold == pytest.approx(0.5 * (first - fold)) and last - fold == pytest.approx(p.loading.min_slide_step)
+    assert first - fold > 4 * p.loading.min_slide_step  # without the rule: three more halvings
+    assert [r.ubar for r in res.records if r.snapped] == [last]
+
+
 def test_tangential_potential_is_the_return_maps_integral():
     """psi(d) of laws.contact.tangential_potential: its derivative in d is the return map's traction magnitude
     min(eps_t d, c), in stick, in slip and on both sides of the transition; psi is continuous there."""

@@ -207,9 +207,7 @@ def _after_dwell(model: CapModel) -> LegName:
 
 
 def _current_Fn(model: CapModel, state: PathState) -> float:
-    if state.marks:
-        return state.marks[-1].Fn
-    return model.contact.force(state.x[:-1], state.x[-1], 0.0, *state.history.friction)[1]
+    return state.marks[-1].Fn if state.marks else model.contact.force(state.x[:-1], state.x[-1], 0.0, *state.history.friction)[1]
 
 
 def _preload_targets(model: CapModel, state: PathState) -> list[float]:
@@ -309,12 +307,13 @@ def _slide_leg(model: CapModel, state: PathState, start: float, end: float, brea
     forward = name == LegName.SLIDE
     regrowth = slide_rules.regrowth_check(state) if model.params.loading.readhesion_snap == "end" else None
     rejects = either(onset_check(state, control.minimum) if forward else None,
-                      snap_check(state) if model.params.friction.weakening and forward else None, jump_check(state))
+                      snap_check(state) if model.params.friction.weakening and forward else None, jumps := jump_check(state))
     direction = 1.0 if end >= start else -1.0
 
     def step_limit(ubar: float) -> float:  # the closing step a hair inside the bracket: ubar + step rounds
         bracket = (1.0 - 1e-9) * onset_bracket(ubar, control.minimum)
-        return onset_step_limit(state.marks, ubar, state.onset_ceiling if forward else math.nan, bracket, direction)
+        closing = onset_step_limit(state.marks, ubar, state.onset_ceiling if forward else math.nan, bracket, direction)
+        return 0.0 if jumps.repeats() else closing  # once a jump repeats, the smallest step (where a jump stands)
 
     def steady(rec: StepRecord, x_before: np.ndarray) -> bool:
         gap_before = lambda: model.contact.gaps(*model.split(x_before))[0].ravel()  # noqa: E731

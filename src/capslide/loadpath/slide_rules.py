@@ -16,8 +16,9 @@ import numpy as np
 from ..states import Phase
 from .measures import fully_sliding
 
-__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "AREA_JUMP", "jump_check", "REGROWTH", "regrowth_check",
-           "ONSET_BRACKET", "onset_bracket", "onset_check", "STEADY_TOLERANCE", "steady_sliding", "either"]
+__all__ = ["Mark", "onset_step_limit", "SNAP_DROP", "snap_check", "AREA_JUMP", "JUMP_REPEAT", "AreaJump", "jump_check",
+           "REGROWTH", "regrowth_check", "ONSET_BRACKET", "onset_bracket", "onset_check", "STEADY_TOLERANCE",
+           "steady_sliding", "either"]
 
 
 @dataclass(frozen=True)
@@ -76,20 +77,50 @@ def snap_check(state, drop: float = SNAP_DROP):
 
 
 AREA_JUMP = 0.2  # largest relative change of the contact area in one slide step (jump_check)
+JUMP_REPEAT = 0.25  # two rejected steps jumped to one state: their areas within this share of the jump (AreaJump)
 
 
-def jump_check(state, largest: float = AREA_JUMP):
+class AreaJump:
+    """The area-jump rule of :func:`jump_check`: a callable ``rejects(rec) -> reason or None`` that remembers the
+    areas of the last two steps it rejected from the path's last mark."""
+
+    def __init__(self, state, largest: float = AREA_JUMP, repeat: float = JUMP_REPEAT):
+        self.state, self.largest, self.repeat = state, largest, repeat
+        self.landed: list[tuple[Mark, float]] = []  # (the mark a rejected step started from, the area it found)
+        self.skipped_from: Mark | None = None  # the mark whose repeated jump last sent the slide to its smallest step
+
+    def __call__(self, rec) -> str | None:
+        last = self.state.marks[-1] if self.state.marks else None
+        if last is None or last.phase != rec.phase or not abs(rec.area - last.area) > self.largest * last.area:
+            return None
+        self.landed = [*(j for j in self.landed[-1:] if j[0] is last), (last, rec.area)]
+        return f"the contact area jumped from {last.area:.6g} to {rec.area:.6g} in one step"
+
+    def repeats(self) -> bool:
+        """Whether the last two steps rejected from the path's last mark found the same area, within ``repeat`` of
+        the jump (a continuous change halves with the step): the jump is there at every step length, so the
+        halvings would only repeat it down to the smallest step, and the next step may as well be that one. Not
+        right after such a smallest step that found no jump (the fold lies further on): the halvings then bisect."""
+        marks = self.state.marks
+        if len(self.landed) < 2 or any(mark is not marks[-1] for mark, _ in self.landed):
+            return False
+        if len(marks) > 1 and marks[-2] is self.skipped_from:
+            return False
+        (_, first), (_, second) = self.landed
+        if abs(second - first) >= self.repeat * abs(first - marks[-1].area):
+            return False
+        self.skipped_from = marks[-1]
+        return True
+
+
+def jump_check(state, largest: float = AREA_JUMP) -> AreaJump:
     """A slide step whose contact area changes by more than ``largest`` of the last step's is cut back: a continuous
     change passes in shorter steps, and a change that persists at the minimum step is a jump to another equilibrium
     (at a fold of the path, where no quasi-static path goes on; the leg then ends diverged there). Measured: at most
     5.5 % in a step in the paper's cases, the `fast` cases and the stability suite; 46 % at the jump it was written
-    for (the stability suite's tensile_90: 4.59 to 6.72 L0 in a step of 1.3e-4 L0, while the contact peeled off)."""
-    def rejects(rec) -> str | None:
-        last = state.marks[-1] if state.marks else None
-        if last is None or last.phase != rec.phase or not abs(rec.area - last.area) > largest * last.area:
-            return None
-        return f"the contact area jumped from {last.area:.6g} to {rec.area:.6g} in one step"
-    return rejects
+    for (the stability suite's tensile_90: 4.59 to 6.72 L0 in a step of 1.3e-4 L0, while the contact peeled off).
+    Once two halvings found the same jump (:meth:`AreaJump.repeats`), the slide leg's next step is the smallest."""
+    return AreaJump(state, largest)
 
 
 REGROWTH = "the next equilibrium found re-adheres"  # in the reason of a leg the regrowth rule ended
