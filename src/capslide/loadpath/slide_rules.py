@@ -100,7 +100,8 @@ class AreaJump:
         """Whether the last two steps rejected from the path's last mark found the same area, within ``repeat`` of
         the jump (a continuous change halves with the step): the jump is there at every step length, so the
         halvings would only repeat it down to the smallest step, and the next step may as well be that one. Not
-        right after such a smallest step that found no jump (the fold lies further on): the halvings then bisect."""
+        from the state right after such a smallest step (the mark it answered for is kept): where that step found no
+        jump, the fold lies further on, and the halvings bisect."""
         marks = self.state.marks
         if len(self.landed) < 2 or any(mark is not marks[-1] for mark, _ in self.landed):
             return False
