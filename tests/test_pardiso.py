@@ -12,7 +12,7 @@ from capslide.model import cost
 from capslide.model.build import build_model
 from capslide.params import Parameters
 from capslide.solvers import pardiso
-from capslide.solvers.linsolve import DirectSolver, LUKrylovSolver, make_solver
+from capslide.solvers.linsolve import DirectSolver, LUKrylovSolver, factorization_cost_in_solves, make_solver
 
 from fe_helpers import LAM, MU
 
@@ -132,3 +132,36 @@ def test_a_case_with_pardiso_resumes_bit_for_bit_and_agrees_with_superlu(paper_c
     assert full.status == superlu.status
     for name in full.scalars:
         assert full.scalars[name] == pytest.approx(superlu.scalars[name], rel=1e-6, abs=1e-9), name
+
+
+def block_grid_3d(n: int) -> sp.csr_matrix:
+    """A 27-point stencil on an n^3 grid with dense 3x3 node blocks (random, diagonally dominant): its LU factors
+    fill in as a 3D hexahedral tangent's do."""
+    line = sp.diags([1.0, 1.0, 1.0], [-1, 0, 1], shape=(n, n))
+    A = sp.kron(sp.kron(sp.kron(line, line), line), np.ones((3, 3))).tocsr()
+    A.data = np.random.default_rng(0).standard_normal(A.nnz)
+    A = (A + 30.0 * sp.eye(A.shape[0])).tocsr()
+    A.sort_indices()
+    return A
+
+
+@needs_mkl
+def test_factors_that_fill_in_are_kept_until_their_cost_in_solves_is_spent(tangent):
+    """A refactorization is worth as many Krylov iterations as it costs solves: about 10 on a 2D tangent (the
+    floor of 15 holds), tens on 3D factors, where PARDISO's counted flops and fill set it. On a drifting sequence
+    of bordered systems the 3D factors are then renewed less often than at the floor (SuperLU's rule), with the
+    same iterations per solve between renewals."""
+    assert factorization_cost_in_solves(pardiso.PardisoFactors(tangent[0])) < 15
+    A = block_grid_3d(12)
+    assert 25 < factorization_cost_in_solves(pardiso.PardisoFactors(A)) < 40
+    n, rng = A.shape[0], np.random.default_rng(2)
+    drift, c, d, b = rng.uniform(-1, 1, A.nnz), rng.normal(size=n), rng.normal(size=n), rng.normal(size=n + 1)
+    setups = {}
+    for kind in ("superlu", "pardiso"):
+        solver = make_solver("lu_krylov", factorization=kind)
+        for k in range(40):
+            B = A.copy()
+            B.data = A.data * (1.0 + 0.003 * k * drift)
+            solver.solve_bordered(B, c, d, 50.0, b)
+        setups[kind] = solver.stats["setups"]
+    assert setups == {"superlu": 6, "pardiso": 4}

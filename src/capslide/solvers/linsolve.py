@@ -29,7 +29,19 @@ from .solve_info import LinearSolveError, SolveInfo
 from .solve_info import true_residual as _true_residual
 
 __all__ = ["SolveInfo", "LinearSolveError", "AMGSolver", "DirectSolver", "LUKrylovSolver", "make_solver",
-           "choose_linear_solver", "SOLVERS"]
+           "choose_linear_solver", "SOLVERS", "factorization_cost_in_solves"]
+
+# A numeric factorization runs its counted flops about this many times faster than a triangular solve runs its two
+# per entry of L + U (dense fronts against memory-bound sweeps); PARDISO, one thread, on the experiment scene's
+# tangents and on 2D and 3D model grids (benchmarks/lu_refactor_balance.py).
+FACTOR_FLOP_SPEEDUP = 6.0
+
+
+def factorization_cost_in_solves(factors: PardisoFactors) -> float:
+    """A numeric refactorization's cost in triangular solves with the same factors, estimated from PARDISO's counts
+    of the factorization's flops and the fill: about 10 on 2D tangents, 50 to 130 on 3D ones of 20k to 66k DOF.
+    The counts come from the analysis of the pattern, so the estimate is the same in every run."""
+    return factors.factorization_flops / (FACTOR_FLOP_SPEEDUP * 2.0 * factors.fill)
 
 
 def _factor(A: sp.csr_matrix, permc_spec: str, diagonal_pivoting: bool):
@@ -121,10 +133,12 @@ class LUKrylovSolver:
     ``max_iterations_before_refactor`` iterations per right-hand side. In
     :meth:`solve_bordered` the rule is a cost balance instead: refactorize once
     the Krylov iterations beyond those of the first solve after the last
-    factorization add up to ``refactor_excess_iterations`` (a factorization
-    costs about as much as 10-20 preconditioned iterations on the cap meshes
-    from 4k to 90k DOF, docs/performance.md), or past ``hard_iteration_limit``
-    iterations. Counted in iterations, not seconds: runs stay deterministic.
+    factorization add up to what a factorization costs: ``refactor_excess_iterations``
+    (10-20 preconditioned iterations on the 2D cap meshes from 4k to 90k DOF,
+    docs/performance.md), or with PARDISO's factors their estimated cost in
+    solves if larger (:func:`factorization_cost_in_solves`: 3D factors fill in);
+    or past ``hard_iteration_limit`` iterations. Counted in iterations and
+    flops, not seconds: runs stay deterministic.
     A solve to a looser tolerance (an inexact Newton step) counts the
     iterations it would have taken to ``rtol`` at the rate it converged.
     """
@@ -180,6 +194,12 @@ class LUKrylovSolver:
         self.stats["setups"] += 1
         self._base_iterations, self._excess_iterations = None, 0
         return time.perf_counter() - t
+
+    def _refactor_balance(self) -> float:
+        """The excess Krylov iterations a factorization is worth (see the class docstring)."""
+        if self.factorization != "pardiso" or self._pardiso is None:
+            return self.refactor_excess_iterations
+        return max(self.refactor_excess_iterations, factorization_cost_in_solves(self._pardiso))
 
     def solve(self, A: sp.csr_matrix, B: np.ndarray, rebuild: bool = False) -> tuple[np.ndarray, SolveInfo]:
         B2 = B.reshape(len(B), -1)
@@ -254,7 +274,7 @@ class LUKrylovSolver:
             self._base_iterations = its
         else:  # iterations that a fresh factorization would have saved
             self._excess_iterations += max(its - self._base_iterations, 0)
-        if self._excess_iterations > self.refactor_excess_iterations or info.iterations > self.hard_iteration_limit:
+        if self._excess_iterations > self._refactor_balance() or info.iterations > self.hard_iteration_limit:
             self._stale = True  # refactor at the next solve (the factors still serve approximate_bordered)
         self.stats["solves"] += 1
         self.stats["iterations"] += info.iterations

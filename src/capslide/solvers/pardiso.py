@@ -81,6 +81,7 @@ def _settings() -> np.ndarray:
     iparm[10] = 0  # no scaling
     iparm[12] = 0  # no weighted matching: the analysis depends on the pattern alone
     iparm[17] = -1  # report the fill of L + U
+    iparm[18] = -1  # report the numeric factorization's flops (in millions)
     iparm[34] = 1  # zero-based indices
     return iparm
 
@@ -126,6 +127,11 @@ class PardisoFactors:
     def fill(self) -> int:
         """Entries of L + U."""
         return int(self._iparm[17])
+
+    @property
+    def factorization_flops(self) -> float:
+        """Floating-point operations of one numeric factorization, as counted by the analysis."""
+        return float(self._iparm[18]) * 1e6
 
     def same_pattern(self, A: sp.csr_matrix) -> bool:
         return (sp.issparse(A) and A.format == "csr" and A.shape == (self.n, self.n) and np.array_equal(A.indptr, self._indptr)
