@@ -149,8 +149,7 @@ def block_grid_3d(n: int) -> sp.csr_matrix:
 def test_factors_that_fill_in_are_kept_until_their_cost_in_solves_is_spent(tangent):
     """A refactorization is worth as many Krylov iterations as it costs solves: about 10 on a 2D tangent (the
     floor of 15 holds), tens on 3D factors, where PARDISO's counted flops and fill set it. On a drifting sequence
-    of bordered systems the 3D factors are then renewed less often than at the floor (SuperLU's rule), with the
-    same iterations per solve between renewals."""
+    of bordered systems the 3D factors are then renewed less often than at the floor (SuperLU's rule)."""
     assert factorization_cost_in_solves(pardiso.PardisoFactors(tangent[0])) < 15
     A = block_grid_3d(12)
     assert 25 < factorization_cost_in_solves(pardiso.PardisoFactors(A)) < 40
