@@ -1,16 +1,17 @@
 """The linear solver of the `experiment` scene's slide (issue 40, item 6): one case, A0 = 0.27 mm^2, preloaded to its
 area from the study's normal state and slid to --ubar um, with each solver in one run.
 
-The tangent of the slide (21,420 DOF, H1/P0 at nu = 0.49; stick, slip and adhesion at the contact edge) is solved by
-pyamg smoothed aggregation preconditioning CG/BiCGStab (solver.linear: amg, the 3D default), by a reused SuperLU
-factorization preconditioning GMRES (lu_krylov), or by reused MKL PARDISO factors (lu_krylov with
-solver.factorization: pardiso, the scene's). The path's steps, cut-backs and iterations are those each solver lets
-the continuation take. One BLAS thread; the run of each solver is timed once (a run is minutes: its steps are the
-repeats), with the median seconds per step.
+The tangent of the slide (21,420 DOF at the coarse preset, H1/P0 at nu = 0.49; stick, slip and adhesion at the
+contact edge) is solved by pyamg smoothed aggregation preconditioning CG/BiCGStab (solver.linear: amg, the 3D
+default), by a reused SuperLU factorization preconditioning GMRES (lu_krylov), or by reused MKL PARDISO factors
+(lu_krylov with solver.factorization: pardiso, the scene's). The path's steps, cut-backs and iterations are those
+each solver lets the continuation take. One BLAS thread; the run of each solver is timed once (a run is minutes: its
+steps are the repeats), with the median seconds per step.
 
-    snakemake --cores 2 results/paper/experiment3d/states/lambda2.npz     # the normal state, once
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/experiment_solvers.py \\
-        --state results/paper/experiment3d/states/lambda2.npz --ubar 25
+    capslide preload --scene experiment --set preset=coarse --set loading.preload=0.0 \\
+        --set loading.preload_area=null -o lambda2_coarse.npz                # the normal state, once
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/experiment_solvers.py --preset coarse \\
+        --state lambda2_coarse.npz --ubar 25
 """
 
 from __future__ import annotations
@@ -36,7 +37,8 @@ SOLVERS = {
 
 
 def one_run(state: str, case: dict, ubar: float, solver: dict) -> dict:
-    """Preload and slide of ``case`` from the normal state file ``state`` with ``solver``'s settings."""
+    """Preload and slide of ``case`` (its settings, the preset among them) from the normal state file ``state`` with
+    ``solver``'s settings."""
     scene = load_config([scene_path("experiment")], settings=case)
     saved, reached = read_normal_state_at_any_preload(state, scene)
     approached = [r.Fn for r in saved.records if r.phase in (Phase.APPROACH, Phase.SPREAD)]
@@ -57,8 +59,11 @@ def main() -> None:
     ap.add_argument("--state", required=True, help="the study's normal state at the scene's lambda (npz)")
     ap.add_argument("--ubar", type=float, default=25.0, help="slide distance (um)")
     ap.add_argument("--area", default="A0.270", help="the study's case")
+    ap.add_argument("--preset", default=None, help="the scene's mesh preset (default: the scene's own), as the state's")
     args = ap.parse_args()
     case = study_cases(load_config([scene_path("experiment")]))[args.area]
+    if args.preset is not None:
+        case = {**case, "preset": args.preset}
     rows = {name: one_run(args.state, case, args.ubar, s) for name, s in SOLVERS.items()}
     fastest = min(r["wall"] for r in rows.values())
     print(f"{args.area}: preload to its area and slide to ubar = {args.ubar:g} um")
