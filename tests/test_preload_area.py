@@ -33,6 +33,15 @@ def test_the_secant_stops_within_the_tolerance_and_below_the_smallest_force_step
     assert area_correction((0.0, -0.5), (10.0, 12.0), 12.0 * (1 + 2e-3), 1e-3, 1.0) is None  # step 0.006 < 1
 
 
+def test_on_a_stair_of_the_area_the_secant_grows_its_step_at_most_twofold():
+    """Two states on one stair (lambda = 3 on the experiment's annulus: 133,123 um^2 at 558.1 and 563.9 E L0^2,
+    tensile) put the secant's target 29,000 E L0^2 away, five rings past the area; the step is held to twice the
+    last one. A secant within that bound is taken whole (the linear law's 1.5 times)."""
+    F_next = area_correction((558.087, 563.855), (133123.2185, 133122.6023), 130000.0, 2e-3, 1e-5)
+    assert F_next == pytest.approx(563.855 + 2.0 * (563.855 - 558.087))
+    assert area_correction((0.0, -0.5), (10.0, 12.0), 13.5, 1e-3, 1e-6) == pytest.approx(-0.875)
+
+
 @pytest.mark.parametrize(("Fn", "area"), [((0.0, -0.5), (12.0, 10.0)), ((0.0, -0.5), (10.0, 10.0)), ((0.0, 0.0), (9.0, 10.0))])
 def test_an_area_that_does_not_grow_under_compression_is_unreachable(Fn, area):
     with pytest.raises(AreaUnreachable):

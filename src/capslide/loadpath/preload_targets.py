@@ -16,7 +16,7 @@ from collections.abc import Iterable
 
 from ..states import Phase
 
-__all__ = ["preload_targets", "previous_target", "area_correction", "area_bracket", "bracketed_force", "area_targets",
+__all__ = ["SECANT_STEP_GROWTH", "preload_targets", "previous_target", "area_correction", "area_bracket", "bracketed_force", "area_targets",
            "area_unreachable", "AreaUnreachable"]
 
 
@@ -60,12 +60,19 @@ class AreaUnreachable(ValueError):
     contact that does not change): no force step reaches the target area from there."""
 
 
+SECANT_STEP_GROWTH = 2.0  # a secant's force step is at most this many times the last one
+
+
 def area_correction(Fn: tuple[float, float], area: tuple[float, float], target: float, rtol: float,
                     min_step: float) -> float | None:
     """The next force target toward the contact area ``target`` by a secant through the last two converged states
     (``Fn`` in E L0^2 or E L0, positive = tensile; ``area`` in L0^2 or L0, the later state last); None when the later
     area is within ``rtol`` of the target, or when the secant's step is below ``min_step`` (the force is resolved as
-    finely as the preload's steps go). On the stable branch the area grows as Fn falls (compression)."""
+    finely as the preload's steps go). On the stable branch the area grows as Fn falls (compression).
+
+    The step is at most ``SECANT_STEP_GROWTH`` times the last one: where the contact's edge is pinned between two
+    jumps (a stair of the area on a mesh that does not resolve the cohesive zone), the secant is nearly flat and
+    would leap several jumps past the target (docs/experiment3d.md, lambda = 3 on the annulus)."""
     (F0, F1), (A0, A1) = Fn, area
     if abs(A1 - target) <= rtol * target:
         return None
@@ -74,6 +81,7 @@ def area_correction(Fn: tuple[float, float], area: tuple[float, float], target: 
         raise AreaUnreachable(f"the contact area {A1:.6g} does not grow under compression there (dA/dFn = {slope:.3g}); "
                               f"target {target:.6g}")
     step = (target - A1) / slope
+    step = math.copysign(min(abs(step), SECANT_STEP_GROWTH * abs(F1 - F0)), step)
     return None if abs(step) < min_step else F1 + step
 
 
