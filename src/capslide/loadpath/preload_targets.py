@@ -16,8 +16,8 @@ from collections.abc import Iterable
 
 from ..states import Phase
 
-__all__ = ["SECANT_STEP_GROWTH", "preload_targets", "previous_target", "area_correction", "area_bracket", "bracketed_force", "area_targets",
-           "area_unreachable", "AreaUnreachable"]
+__all__ = ["SECANT_STEP_GROWTH", "preload_targets", "previous_target", "area_correction", "area_bracket",
+           "bracketed_force", "area_targets", "area_unreachable", "AreaUnreachable"]
 
 
 def _retracted_to(loading, Fn: float, Fn_approached: float) -> bool:
