@@ -4,7 +4,7 @@ the step to the slide with the current state's threshold (``current``, the paper
 The 2D test cap at zero load (model DI, ``mesh.size`` 32 at the ``fast`` preset, to ubar = 2 L0, before the area's
 first jump at 2.07): ``current`` at the finest largest slide step is the reference, and each run's Ft, contact area
 and stick area at a few ubar are given against it (each interpolated linearly between the run's slide steps).
-``solver.snap_through`` is on for every run, as in the experiment scene. Prints a Markdown table; about two minutes.
+``solver.snap_through`` is on for every run, as in the experiment scene. Prints a Markdown table; about a minute.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/threshold_step_convergence.py
 """
