@@ -5,7 +5,7 @@ import pytest
 from test_checkpoint import assert_same_history
 
 from capslide.cli import main
-from capslide.config import apply_overrides, apply_settings, validate
+from capslide.config import apply_overrides, apply_settings, load_config, validate
 from capslide.driver.case import run_case
 from capslide.io.checkpoint import CheckpointWriter, SavedCase, config_text
 from capslide.io.normal_state import NormalStateError, normal_config, read_normal_state, write_normal_state
@@ -160,6 +160,23 @@ def test_normal_configuration(paper_config):
     assert normal_config(apply_settings(contact, {"friction.model": "EA"})) != normal_config(contact)
 
 
+def test_limits_and_a_mesh_free_ubar_max_leave_the_normal_configuration(paper_config):
+    """The guards refuse before computing; limits.max_steps counts for a path that did not complete only;
+    loading.ubar_max sizes the 2D cap's default band, nothing in 3D or beside a given band."""
+    guards = {"limits.max_dofs": 1e5, "limits.max_memory_gb": 2.0, "limits.refuse_locking": False}
+    assert normal_config(apply_settings(paper_config, guards)) == normal_config(paper_config)
+    steps = apply_settings(paper_config, {"limits.max_steps": 77})
+    assert normal_config(steps) == normal_config(paper_config)
+    assert normal_config(steps, completed=False) != normal_config(paper_config, completed=False)
+    assert not shares_normal_state(paper_config, {"limits.max_steps": 77, "loading.preload": 0.1})
+    banded = apply_settings(paper_config, {"mesh.band_half_width": 30.0})
+    sphere = load_config(["sphere"])
+    for config in (banded, sphere):
+        longer = apply_settings(config, {"loading.ubar_max": 7.5})
+        assert normal_config(longer) == normal_config(config)
+        assert shares_normal_state(config, {"loading.ubar_max": 7.5, "loading.preload": 0.1})
+
+
 @pytest.fixture(scope="module")
 def state_file(base, tmp_path_factory):
     path = tmp_path_factory.mktemp("state") / "Fn0.npz"
@@ -174,6 +191,16 @@ def test_a_state_for_another_configuration_is_refused_naming_the_key(base, state
     with pytest.raises(NormalStateError, match=r"\(friction\.active_from = .slide. there, .contact. here\)"):
         read_normal_state(state_file, apply_settings(base, {"friction.active_from": "contact"}))
     read_normal_state(state_file, apply_settings(base, {"friction.model": "EA"}))  # slide-only: accepted
+
+
+def test_a_completed_state_serves_another_step_limit(base, state_file):
+    """Above the state's steps the limit leaves its path as it is; below them the case ends at its next step."""
+    n = len(read_normal_state(state_file, base).records)
+    for limit, status in ((n + 500, Status.COMPLETED), (n - 1, Status.DIVERGED)):
+        config = apply_settings(base, {"limits.max_steps": limit})
+        case = run_case(Parameters.from_config(config), resume=read_normal_state(state_file, config))
+        assert case.status == status, limit
+    assert "more than limits.max_steps" in case.reason and len(case.records) == n + 1
 
 
 def test_damaged_or_foreign_state_files_are_refused(base, state_file, tmp_path):

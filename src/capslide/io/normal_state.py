@@ -3,7 +3,11 @@ at the preload (``loading.dwell``) runs after the state, under the slide's norma
 
 Friction acts from the slide on (docs/theory.md section 5): the approach and the preload of a case depend on its
 configuration except the keys :data:`SLIDE_ONLY`, so the cases of a study that differ only in those keys share
-them. A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
+them. The limits that refuse a configuration before computing (:data:`GUARDS`) never change a state, nor does
+``limits.max_steps`` one that completed (a case over it ends at its next step), nor ``loading.ubar_max`` where it
+does not size the mesh (the 3D sphere, or the 2D cap with a given ``mesh.band_half_width``).
+
+A normal state file (``.npz``, read without pickle) holds the path state at the end of the preload
 (:class:`capslide.loadpath.cap.PathState`), the step records up to there, the wall time spent, how the path ended
 when the preload failed, and the *normal configuration* it was computed for (:func:`normal_config`): the
 configuration without the slide-only keys (points in contact report ``frictionless`` before the slide, whatever
@@ -20,7 +24,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from ..config import flatten
+from ..config import SPHERE_ELEMENTS, flatten
 from ..states import Status
 from .checkpoint import (
     SavedCase,
@@ -34,7 +38,7 @@ from .checkpoint import (
 )
 from .state_check import check_header
 
-__all__ = ["SLIDE_ONLY", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
+__all__ = ["SLIDE_ONLY", "GUARDS", "NormalStateError", "normal_config", "slide_only", "write_normal_state",
            "read_normal_state", "read_normal_state_at_any_preload"]
 
 FORMAT = "capslide normal state 1"
@@ -44,6 +48,9 @@ SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "load
               "loading.slide_back", "loading.stop_at_onset", "loading.readhesion_snap",
               "loading.normal_control", "loading.spring_stiffness",
               "loading.dwell", "output.snapshot_ubar", "study.")
+
+# limits that refuse a configuration before any computation: a state computed under one holds under any other
+GUARDS = ("limits.max_dofs", "limits.max_memory_gb", "limits.refuse_locking")
 
 
 # the preload's target: the state at one target is the start of the path to another (loadpath.cap.continued_from)
@@ -68,13 +75,23 @@ def _number_as_float(value: Any) -> Any:
     return value
 
 
-def normal_config(config: Mapping) -> dict[str, Any]:
+def _belongs(key: str, flat: Mapping[str, Any], completed: bool) -> bool:
+    """Whether ``key`` of the flat configuration ``flat`` can change the approach and preload (``completed``:
+    of a path that completed, which no step limit stopped)."""
+    if slide_only(key):
+        return flat.get("friction.active_from") == "contact" and key.startswith("friction.")
+    if key == "loading.ubar_max":  # it sizes the 2D cap's default band only (model.build.cap_mesh_spec)
+        return flat.get("mesh.element") not in SPHERE_ELEMENTS and flat.get("mesh.band_half_width") is None
+    return key not in GUARDS and not (completed and key == "limits.max_steps")
+
+
+def normal_config(config: Mapping, completed: bool = True) -> dict[str, Any]:
     """Dotted key -> value of the configuration the approach and preload depend on (numbers as floats); with
-    ``friction.active_from = contact`` friction acts before the slide, and every friction key belongs to it."""
+    ``friction.active_from = contact`` friction acts before the slide, and every friction key belongs to it.
+    ``completed``: the configuration of a normal path that completed, for which ``limits.max_steps`` does not
+    count; a path that ended otherwise may have ended on it."""
     flat = flatten(config)
-    from_contact = flat.get("friction.active_from") == "contact"
-    return {k: _number_as_float(v) for k, v in flat.items()
-            if not slide_only(k) or (from_contact and k.startswith("friction."))}
+    return {k: _number_as_float(v) for k, v in flat.items() if _belongs(k, flat, completed)}
 
 
 def _text(normal: Mapping[str, Any]) -> str:
@@ -86,7 +103,8 @@ def write_normal_state(path: str | Path, saved: SavedCase, config: Mapping) -> N
     arrays, state = state_arrays(saved.state)
     arrays.update(prefixed_record_arrays(saved.records))
     status, reason = saved.ended if saved.ended is not None else (Status.COMPLETED, "")
-    write_signed(Path(path), arrays, {"format": FORMAT, "normal_config": _text(normal_config(config)), **state,
+    normal = normal_config(config, completed=status == Status.COMPLETED)
+    write_signed(Path(path), arrays, {"format": FORMAT, "normal_config": _text(normal), **state,
                                       "elapsed": saved.elapsed, "status": int(status), "reason": reason})
 
 
@@ -106,7 +124,8 @@ def _load(path: Path, config: Mapping, any_preload: bool) -> tuple[SavedCase, fl
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise NormalStateError(f"'{path}' is not a normal state file ({FORMAT})")
     check_header(meta, "normal state")
-    theirs, own = json.loads(meta["normal_config"]), normal_config(config)
+    completed = Status(meta["status"]) == Status.COMPLETED
+    theirs, own = json.loads(meta["normal_config"]), normal_config(config, completed)
     preload = float(theirs["loading.preload"])
     if any_preload:  # the preload's target: a force, or a contact area
         for key in PRELOAD_KEYS:

@@ -78,7 +78,7 @@ def shares_normal_state(config: Mapping, overrides: Mapping[str, Any]) -> bool:
     the run's ``loading.preload``: its other overrides leave the normal configuration as it is (they act only from
     the slide on; a model whose friction acts from the first contact preloads itself)."""
     sets = {key: value for key, value in overrides.items() if key != "loading.preload"}
-    return normal_config(apply_settings(config, sets)) == normal_config(config)
+    return normal_config(apply_settings(config, sets), completed=False) == normal_config(config, completed=False)
 
 
 def _stability_runs(spec: Mapping) -> dict[str, dict]:
