@@ -1,9 +1,12 @@
 """Ft and the contact area of experiment cases along their slides, against the first file's, at given stage
 travels (a mesh or lambda check of one case): each curve interpolated linearly between its slide steps, in mN, mm^2
 and um (capslide.studies.experiment_3d.features). A travel past a file's last step is left blank. Then each file's
-peak and how its slide ended.
+peak and how its slide ended. With ``--halvings`` the files are one case at successively halved steps (the
+coarsest first), and a second table gives, per travel, each halving's change in Ft and A, the ratio of successive
+changes, and the order it implies (log2 of the ratio: 1 for a first-order error, which halves with the step).
 
     .venv/bin/python benchmarks/slide_curves_against.py a019_ann4.nc a019_ann8.nc --ubar 5 10 20 30 34
+    .venv/bin/python benchmarks/slide_curves_against.py --halvings --ubar 15 20 25 30 -- s1.nc s05.nc s025.nc
 """
 
 from __future__ import annotations
@@ -43,14 +46,43 @@ def table(cases: list[dict], travels) -> list[str]:
     return rows
 
 
+def halving_orders(values) -> tuple[list[float], list[float], list[float]]:
+    """The changes between successive values (a case at halved steps, the coarsest first), the ratios of successive
+    changes, and the orders they imply (log2 of the ratio; NaN where the changes differ in sign or vanish)."""
+    v = np.asarray(values, dtype=float)
+    changes = np.diff(v)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = changes[:-1] / changes[1:]
+        orders = np.where(ratios > 0, np.log2(np.where(ratios > 0, ratios, 1.0)), np.nan)
+    return changes.tolist(), ratios.tolist(), orders.tolist()
+
+
+def halving_table(cases: list[dict], travels) -> list[str]:
+    """Markdown rows: per travel and quantity, each halving's change, their ratios and orders."""
+    rows = ["| ubar (um) | quantity | values | changes per halving | ratios of successive changes | orders |",
+            "|---|---|---|---|---|---|"]
+    for u in travels:
+        for key, fmt in (("Ft", "{:.2f}"), ("area", "{:.4f}")):
+            values = [at(c, key, u) for c in cases]
+            changes, ratios, orders = halving_orders(values)
+            join = lambda xs, f: ", ".join(cell(x, f) or "-" for x in xs)  # noqa: E731
+            rows.append(f"| {u:g} | {key} | {join(values, fmt)} | {join(changes, '{:+.4f}')} | "
+                        f"{join(ratios, '{:.2f}')} | {join(orders, '{:.2f}')} |")
+    return rows
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("files", nargs="+", help="case files (.nc) of one case; the first is the reference")
     ap.add_argument("--ubar", type=float, nargs="+", default=[5, 10, 15, 20, 25, 30], help="stage travels (um)")
+    ap.add_argument("--halvings", action="store_true", help="the files are one case at halved steps, coarsest first")
     args = ap.parse_args(argv)
     cases = [features(f) for f in args.files]
     print("\n".join(table(cases, args.ubar)))
     print()
+    if args.halvings:
+        print("\n".join(halving_table(cases, args.ubar)))
+        print()
     for c in cases:
         print(f"{c['case']}: A0 {c['A0']:.4f} mm2, Fn0 {c['Fn0']:+.4f} mN, peak Ft {c['peak_Ft']:.2f} mN at "
               f"{c['travel_to_peak']:.2f} um (area lost {c['area_loss_pct']:.0f} %), {c['outcome']} at "
