@@ -1,10 +1,12 @@
-"""Study: does the slide with its thresholds held over each step (``friction.threshold_at: step_start``) converge with
-the step to the slide with the current state's threshold (``current``, the paper's model)?
+"""Study: does the slide with its thresholds held over each step (``friction.threshold_at: step_start``, or at the
+state extrapolated to the step's end: ``step_predicted``) converge with the step to the slide with the current
+state's threshold (``current``, the paper's model)?
 
 The 2D test cap at zero load (model DI, ``mesh.size`` 32 at the ``fast`` preset, to ubar = 2 L0, before the area's
 first jump at 2.07): ``current`` at the finest largest slide step is the reference, and each run's Ft, contact area
 and stick area at a few ubar are given against it (each interpolated linearly between the run's slide steps).
-``solver.snap_through`` is on for every run, as in the experiment scene. Prints a Markdown table; about a minute.
+``solver.snap_through`` is on for every run, as in the experiment scene. Prints a Markdown table; about two minutes
+(228 s beside four other jobs).
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/threshold_step_convergence.py
 """
@@ -25,7 +27,8 @@ CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
 BASE = ["preset=fast", "mesh.size=32", "loading.preload=0", "loading.ubar_max=2.0", "solver.snap_through=true",
         "output.snapshot_ubar=[]"]
 RUNS = [("current", 0.025), ("current", 0.2), ("step_start", 0.2), ("step_start", 0.1), ("step_start", 0.05),
-        ("step_start", 0.025), ("step_start", 0.0125)]  # the first is the reference
+        ("step_start", 0.025), ("step_start", 0.0125), ("step_predicted", 0.2), ("step_predicted", 0.1),
+        ("step_predicted", 0.05), ("step_predicted", 0.025)]  # the first is the reference
 QUANTITIES = ("Ft", "area", "area_stick")
 
 

@@ -267,11 +267,13 @@ def test_resume_carries_the_accumulated_slip_of_slip_weakening(paper_config, tmp
 
 
 @pytest.mark.slow
-def test_resume_carries_the_thresholds_a_step_holds(paper_config, tmp_path):
-    """With friction.threshold_at = step_start each step takes the thresholds of its start state: a resume
-    mid-slide repeats the uninterrupted history bit for bit only if the checkpoint carries them."""
+@pytest.mark.parametrize("threshold_at", ["step_start", "step_predicted"])
+def test_resume_carries_the_thresholds_a_step_holds(paper_config, tmp_path, threshold_at):
+    """With friction.threshold_at = step_start each step takes the thresholds of its start state (step_predicted:
+    extrapolated from it and the state before): a resume mid-slide repeats the uninterrupted history bit for bit
+    only if the checkpoint carries them."""
     config = validate(apply_overrides(paper_config, [*COARSE, "loading.slide_back=false",
-                                                     "friction.threshold_at=step_start"]))
+                                                     f"friction.threshold_at={threshold_at}"]))
     params, text = Parameters.from_config(config), config_text(config)
     full = run_saving(params, tmp_path / "full", 5)
     after = [i for i, r in enumerate(full.records) if r.phase == Phase.SLIDE][0] + 6

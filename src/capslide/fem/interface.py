@@ -358,14 +358,23 @@ class SurfaceContact:
         # anchor such that -eps_t (x - xi - ubar) = T_t
         return self._in_plane(x, ubar) + Tt / self.eps_t
 
-    def point_thresholds(self, u: np.ndarray, h: float) -> np.ndarray | None:
+    def point_thresholds(self, u: np.ndarray, h: float, before: tuple[np.ndarray, float] | None = None,
+                         ratio: float = 0.0) -> np.ndarray | None:
         """The law's sliding threshold per reference area at every point (s, g) of the state (u, h), zero beyond
         far_gap: the thresholds a step from this state holds fixed (``threshold_at_step_start``); None when the
-        threshold follows the current state or there is no law."""
+        threshold follows the current state or there is no law. With ``before``, the state (u, h) one step earlier:
+        the thresholds at the gap and surface stretch extrapolated linearly from the two states to the end of a step
+        ``ratio`` times the last one's (``friction.threshold_at = step_predicted``)."""
         if not self.threshold_at_step_start or self.law is None:
             return None
-        x, t = self.quad.current(u)
-        g = h - x[..., self.vertical]
+        g, J = self._gap_and_stretch(u, h)
+        if before is not None:
+            g_before, J_before = self._gap_and_stretch(*before)
+            g, J = g + ratio * (g - g_before), J + ratio * (J - J_before)
         near = g < self.far_gap
-        thr, _, _ = self.law.threshold(np.where(near, g, self.far_gap), stretch(t, self.ref_len, self.dim))
+        thr, _, _ = self.law.threshold(np.where(near, g, self.far_gap), J)
         return np.where(near, thr, 0.0)
+
+    def _gap_and_stretch(self, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+        x, t = self.quad.current(u)
+        return h - x[..., self.vertical], stretch(t, self.ref_len, self.dim)

@@ -201,6 +201,12 @@ def _predicted(model: CapModel, loop: Loop, leg: Leg, target: float) -> np.ndarr
     return loop.x
 
 
+def _step_ratio(loop: Loop, target: float) -> float:
+    """The step to ``target`` over the last converged step (0 when there is none)."""
+    last = loop.value - loop.value_prev
+    return (target - loop.value) / last if loop.x_prev is not None and last != 0.0 else 0.0
+
+
 def _solved_step(model: CapModel, loop: Loop, leg: Leg, history: History, target: float, opts: NewtonOptions,
                  dt: float, constraint) -> tuple[NewtonResult, History]:
     """Newton on the step to ``target``; a leg's first step with ``stick_first`` starts from its stick solution
@@ -309,13 +315,14 @@ def continuation(model: CapModel, loop: Loop, history: History,
         t0 = time.perf_counter()
         constraint = leg.constraint_of(aim.target)
         dt = leg.seconds_per_unit * abs(aim.target - loop.value)
-        res, solved = _solved_step(model, loop, leg, history, aim.target, opts, dt, constraint)
+        held = model.step_history(history, loop.x, loop.x_prev, _step_ratio(loop, aim.target))
+        res, solved = _solved_step(model, loop, leg, held, aim.target, opts, dt, constraint)
         rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint, time.perf_counter() - t0, dt)
         if rec is None:
             outcome = _cut_back(loop, leg, aim.step, reason)
             if isinstance(outcome, LegEnd) and loop.step < leg.control.minimum and model.params.solver.snap_through:
                 if not res.converged:  # no equilibrium near the last: pseudo-transient continuation
-                    res, solved = _snapped_through(model, loop, leg, history, aim.target, opts, dt, constraint)
+                    res, solved = _snapped_through(model, loop, leg, held, aim.target, opts, dt, constraint)
                 # a converged step the leg rejected (a jump that persists at the minimum step) stands as it is
                 rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint,
                                                     time.perf_counter() - t0, dt, snapped=True)

@@ -100,10 +100,11 @@ class CapModel:
             far_gap=params.contact.far_gap, repulsion_only=params.contact.repulsion_only,
             law=friction_law(params.friction, params.adhesion),
             return_map=ReturnMapSettings(params.friction.eps_t, params.friction.weakening,
-                                         params.friction.threshold_at == "step_start"),
+                                         params.friction.threshold_at in ("step_start", "step_predicted")),
             contact_gap=params.contact.area_gap,
             normal_per_current_area=params.contact.normal_traction_area == "current",
         )
+        self.predicts_thresholds = params.friction.threshold_at == "step_predicted"
         self.dim = d = mesh.dim
         # the clamped base; in a 3D half model also the normal (y) DOFs of the plane of symmetry
         fixed = node_dofs(mesh.base, d)
@@ -249,6 +250,15 @@ class CapModel:
         moved = anchors - history.anchors
         slip = np.abs(moved) if self.dim == 2 else np.linalg.norm(moved, axis=-1)  # 3D: the anchors' move in the plane
         return replace(history, anchors=anchors, slip=history.slip + slip)
+
+    def step_history(self, history: History, x: np.ndarray, x_before: np.ndarray | None, ratio: float) -> History:
+        """The history a step from the converged state x holds, the step ``ratio`` times as long as the one from
+        ``x_before`` to x: with ``friction.threshold_at = step_predicted`` the thresholds at the gaps and stretches
+        extrapolated to the step's end (held at x's when there is no step before); else ``history`` itself."""
+        if not self.predicts_thresholds or history.thresholds is None or x_before is None or not ratio > 0.0:
+            return history
+        before = (x_before[:-1], x_before[-1])
+        return replace(history, thresholds=self.contact.point_thresholds(x[:-1], x[-1], before, ratio))
 
     def committed_bulk(self, x: np.ndarray, history: History, dt: float) -> History:
         """``history`` with the bulk's part (the viscous networks and the time) moved to the converged state x."""
