@@ -130,7 +130,7 @@ class Friction:
     static_over_kinetic: float = 1.0  # static threshold / kinetic threshold (the law's)
     slip_weakening_distance: float = 0.1  # L0: slip over which the threshold falls from static to kinetic
     active_from: str = "slide"  # friction acts from the slide on, or from the first contact
-    threshold_at: str = "current"  # the threshold at the current state, or fixed at the step's start state
+    threshold_at: str = "current"  # at the current state, or fixed over a step: step_start, step_predicted
 
     @property
     def weakening(self) -> tuple[float, float] | None:

@@ -71,7 +71,8 @@ class Sticking:
 class ReturnMapSettings:
     """How a law's threshold is enforced: the tangential penalty ``eps_t`` (E/L0), the slip weakening
     (static/kinetic ratio, slip-weakening distance D_c in L0), None for one threshold, and whether the threshold is
-    fixed over a step at its value at the step's start state (``friction.threshold_at = step_start``)."""
+    fixed over a step at its value at the step's start state (``friction.threshold_at = step_start``; with
+    ``step_predicted`` at the state extrapolated to the step's end, :meth:`capslide.model.system.CapModel.step_history`)."""
 
     eps_t: float
     weakening: tuple[float, float] | None = None
