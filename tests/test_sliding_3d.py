@@ -103,7 +103,7 @@ def _points_area(p, result):
 
 @pytest.mark.slow
 def test_a_threshold_held_over_each_step_slides_as_the_law(di_sphere, zero_load, tmp_path_factory):
-    """friction.threshold_at = step_start (the experiment scene's) holds each step's thresholds at its start state:
+    """friction.threshold_at = step_start holds each step's thresholds at its start state:
     its slide follows the current-state threshold's to within one step's change of the threshold (peak Ft within
     0.1 %, onset within one step), and at full sliding it gives Ft = tau x A within 0.5 %."""
     p, result, ds = _run(tmp_path_factory, zero_load, "held", "friction.model=DI", "loading.ubar_max=2.7",
