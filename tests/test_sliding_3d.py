@@ -235,6 +235,7 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert c["Ft_over_A_at_peak"] == pytest.approx(abs(float(slide.Ft[k])) / float(slide.area[k]) * 2.0, rel=1e-12)  # MPa
     assert c["area_loss_pct"] == pytest.approx(100 * (1 - float(slide.area[k]) / A0), rel=1e-12)
     assert c["travel_to_peak"] == pytest.approx(float(slide.ubar[k]), rel=1e-12)  # L0 = 1 um
+    assert 0.0 < c["step_to_peak"] == pytest.approx(float(slide.ubar[k] - (slide.ubar[k - 1] if k else 0.0)), rel=1e-12)
     table, panels = tmp_path / "table.md", tmp_path / "panels.png"
     assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
     assert "sliding" in table.read_text() and panels.stat().st_size > 0

@@ -267,6 +267,7 @@ def cmd_experiment3d(args) -> int:
                     figures.save(fig_experiment3d_outlines(case), outlines)
     for r in rows:
         print(f"{r['case']:16s} {r['status']:9s} A0 {r['A0']:.4f} mm2, Fn0 {r['Fn0']:+.3f} mN, peak Ft {r['peak_Ft']:.4g} mN "
-              f"at {r['travel_to_peak']:.4g} um, Ft/A {r['Ft_over_A_at_peak']:.4g} MPa, area loss {r['area_loss_pct']:.3g} %, "
+              f"at {r['travel_to_peak']:.4g} um (step {r['step_to_peak']:.3g}), Ft/A {r['Ft_over_A_at_peak']:.4g} MPa, "
+              f"area loss {r['area_loss_pct']:.3g} %, "
               f"{r['outcome']} at {r['ubar_end']:.4g} um with {r['area_end_pct']:.3g} % of A0")
     return 0

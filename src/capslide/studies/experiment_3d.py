@@ -13,7 +13,9 @@ Per case (:func:`features`), from its file, in SI units (forces mN, areas mm^2, 
 preload to an area ends within its tolerance, or, where the area jumps over the target as the contact edge snaps
 by a face, on one side of the jump); ``Fn0``, its normal load (compressive > 0, as the paper's figure 5);
 ``peak_Ft`` and ``Ft_over_A_at_peak`` (MPa); ``area_loss_pct``, 1 - A / A0 at the peak; ``extent_ratio_at_peak``
-(the x extent over the y width); ``travel_to_peak`` (the stage's travel, um) and ``t_peak`` = travel / v;
+(the x extent over the y width); ``travel_to_peak`` (the stage's travel, um), ``step_to_peak`` (the slide step that
+reached the peak, um: the step error's scale there, set by the cut-backs, not by ``loading.max_slide_step``) and
+``t_peak`` = travel / v;
 ``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there), ``vanished`` (the
 contact came off, at ``Ft_end`` = the last Ft), ``re-adhered`` (the regrowth rule ended the slide: the peeling
 contact snapped to a state with more area, :func:`capslide.loadpath.slide_rules.regrowth_check`; whether it came
@@ -38,7 +40,8 @@ from ..states import Phase
 __all__ = ["TABLE_COLUMNS", "study_cases", "normal_states", "case_name", "preload_guess", "features", "read_cases",
            "window"]
 TABLE_COLUMNS = ["case", "lambda", "status", "A0_target", "A0", "Fn0", "peak_Ft", "Ft_over_A_at_peak", "area_loss_pct",
-                 "extent_ratio_at_peak", "travel_to_peak", "t_peak", "outcome", "Ft_end", "ubar_end", "area_end_pct"]
+                 "extent_ratio_at_peak", "travel_to_peak", "step_to_peak", "t_peak", "outcome", "Ft_end", "ubar_end",
+                 "area_end_pct"]
 
 
 def case_name(area_mm2: float, lam: float | None = None) -> str:
@@ -119,11 +122,13 @@ def features(path: Path) -> dict:
     else:
         outcome, Ft_end = "running", math.nan
     peak = {"peak_Ft": math.nan, "Ft_over_A_at_peak": math.nan, "area_loss_pct": math.nan,
-            "extent_ratio_at_peak": math.nan, "travel_to_peak": math.nan, "t_peak": math.nan, "width_at_peak": math.nan}
+            "extent_ratio_at_peak": math.nan, "travel_to_peak": math.nan, "step_to_peak": math.nan, "t_peak": math.nan,
+            "width_at_peak": math.nan}
     if k is not None:
         peak = {"peak_Ft": abs(float(c["Ft"][k])), "Ft_over_A_at_peak": abs(float(c["Ft"][k])) / float(c["area"][k]) * 1e-3,
                 "area_loss_pct": 100.0 * (1.0 - float(c["area"][k]) / A0), "extent_ratio_at_peak": float(c["extent_ratio"][k]),
-                "travel_to_peak": float(c["ubar"][k]), "t_peak": float(c["time"][k]), "width_at_peak": float(c["x_extent"][k])}
+                "travel_to_peak": float(c["ubar"][k]), "step_to_peak": float(c["ubar"][k] - (c["ubar"][k - 1] if k else 0.0)),
+                "t_peak": float(c["time"][k]), "width_at_peak": float(c["x_extent"][k])}
     target = config["loading"].get("preload_area")
     c.update(peak, case=Path(path).stem, status=status, A0=A0, A0_target=math.nan if target is None else target * mm2,
              Fn0=-float(ds["Fn"].values[start]) * mN,
