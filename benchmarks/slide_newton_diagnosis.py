@@ -4,7 +4,10 @@
    several difference steps: a consistent tangent agrees to second order), and the line search's residuals;
 2. the case resumed to --ubar um, printing for every Newton run that fails its residual norms and the nodes where
    the last residual is largest (a diagnostic: it wraps the continuation's Newton call);
-3. with --active-set, after each failed Newton run, Newton runs with every point's stick/slip state frozen (the
+3. with --iterations, for every Newton run of the resumed steps (converged or not), per iteration: the line search's
+   residual evaluations (1: the full step taken; each halving adds one) and the points whose stick/slip state
+   changed since the last iteration, with the residual norms (where a slide step's iterations go);
+4. with --active-set, after each failed Newton run, Newton runs with every point's stick/slip state frozen (the
    return map's classification held, so each run is smooth), the states updated from the result, up to 12 times,
    printing the points that flip, their gap against DI's cut g_cut and their threshold and traction (a probe of
    whether the step has a consistent state; it patches the contact's return map, capslide has no such option).
@@ -31,6 +34,7 @@ from capslide.io.checkpoint import config_text, load_checkpoint
 from capslide.laws import contact as contact_laws
 from capslide.loadpath.cap import slide_constraint
 from capslide.model.build import build_model
+from capslide.model.system import CapModel
 from capslide.params import Parameters
 from capslide.studies.experiment_3d import study_cases
 
@@ -149,20 +153,60 @@ def probe_active_set() -> None:
     continuation.solve_constrained = probed
 
 
+def report_iterations() -> None:
+    """Wrap the model's linearization and residual and the continuation's Newton call: print, for every Newton run,
+    each iteration's line-search evaluations and stick/slip flips, and the residual norms."""
+    seen = {"states": None, "evaluations": 0, "rows": []}
+    linearize, residual = CapModel.linearize, CapModel.residual
+
+    def counted_linearize(model, z, constraint, history, dt=0.0):
+        if history.anchors is not None:
+            u, h = model.split(z)
+            _, states = model.contact.tangential_state(u, h, constraint.ubar, *history.friction)
+            if seen["states"] is not None:
+                seen["rows"].append((seen["evaluations"], int(np.sum(states != seen["states"]))))
+            seen["states"] = states
+        seen["evaluations"] = 0
+        return linearize(model, z, constraint, history, dt)
+
+    def counted_residual(model, z, constraint, history, dt=0.0):
+        seen["evaluations"] += 1
+        return residual(model, z, constraint, history, dt)
+
+    CapModel.linearize, CapModel.residual = counted_linearize, counted_residual
+    solve = continuation.solve_constrained
+
+    def wrapped(model, constraint, history, x0, opts, dt=0.0):
+        seen.update(states=None, evaluations=0, rows=[])
+        res, solved = solve(model, constraint, history, x0, opts, dt)
+        print(f"ubar = {constraint.ubar:.4f}: converged {res.converged} in {res.iterations}; evaluations/flips "
+              + " ".join(f"{e}/{f}" for e, f in seen["rows"]))
+        print("  residual norms:", " ".join(f"{n:.1e}" for n in res.residual_norms))
+        return res, solved
+
+    continuation.solve_constrained = wrapped
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--checkpoint", required=True)
     ap.add_argument("--case", default="A0.270")
-    ap.add_argument("--step", type=float, default=0.3, help="the step of the tangent check (um)")
+    ap.add_argument("--step", type=float, default=0.3, help="the step of the tangent check (um; 0: no check)")
     ap.add_argument("--ubar", type=float, help="resume to this ubar (um), printing failed Newton runs")
+    ap.add_argument("--iterations", action="store_true",
+                    help="print every Newton run's line-search evaluations and stick/slip flips per iteration")
     ap.add_argument("--active-set", action="store_true", help="probe each failed step with frozen stick/slip states")
     ap.add_argument("--set", action="append", default=[],
                     help="key=value of the checkpoint's case besides the study's (e.g. friction.eps_t=10)")
     args = ap.parse_args()
     settings, saved = study_checkpoint(args.checkpoint, args.case, args.set)
-    tangent_check(Parameters.from_config(load_config([scene_path("experiment")], settings=settings)), saved, args.step)
+    if args.step > 0.0:
+        tangent_check(Parameters.from_config(load_config([scene_path("experiment")], settings=settings)), saved, args.step)
     if args.ubar is not None:
-        report_failures()
+        if args.iterations:
+            report_iterations()
+        else:
+            report_failures()
         if args.active_set:
             probe_active_set()
         params = Parameters.from_config(load_config([scene_path("experiment")],
