@@ -331,3 +331,23 @@ def test_a_saved_state_is_tied_to_the_source_digest_not_to_the_commit(tmp_path, 
         else:
             with pytest.raises(ck.CheckpointError, match="was written by capslide 0.1.0[+]src000000000000"):
                 ck.read_signed(tmp_path / "s.npz", "checkpoint", ck.CheckpointError)
+
+
+@pytest.mark.slow
+def test_a_checkpoint_right_after_a_snap_resumes_with_the_thresholds_held(paper_config, tmp_path):
+    """With ``step_predicted`` the step after a snap holds the thresholds at its start (continuation.held_history):
+    a checkpoint saved right after the snap carries that, and the resumed run repeats the uninterrupted one bit for
+    bit. The 2D cap's fold of tests/test_snap_through.py."""
+    config = validate(apply_overrides(paper_config, [
+        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
+        "friction.threshold_at=step_predicted", "solver.snap_through=true", "output.snapshot_ubar=[]"]))
+    params, text = Parameters.from_config(config), config_text(config)
+    full = run_saving(params, tmp_path / "full", 10_000)
+    n = next(i + 1 for i, r in enumerate(full.records) if r.snapped)
+    reference = run_saving(params, tmp_path / "ref", n)  # the same renewal schedule
+    path = tmp_path / "ckpt"
+    with pytest.raises(Killed):
+        run_saving(params, path, n, observers=[kill_after_steps(n + 1)])
+    saved = load_checkpoint(path, text)
+    assert len(saved.records) == n and saved.state.loop.snapped
+    assert_same_history(reference, run_saving(params, path, n, resume=saved))

@@ -278,3 +278,36 @@ def test_the_snap_on_the_energy_passes_the_2d_caps_fold(paper_config, monkeypatc
     assert res.status == Status.COMPLETED, res.reason
     assert taken and all(t.converged and t.iterations < 40 for t in taken)
     assert res.records[-1].ubar == pytest.approx(2.2)
+
+
+def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(paper_config, monkeypatch):
+    """With ``friction.threshold_at: step_predicted`` a step extrapolates the gaps along the last converged step;
+    a snap's jump is no such rate, so the step after a snap holds the thresholds at its start state. The 2D cap's
+    fold as above: every step after a snap is given no state before it, every other slide step after the first
+    one is."""
+    from capslide.model.system import CapModel
+
+    events = []
+    step_history, advanced = CapModel.step_history, continuation._advanced
+
+    def recorded_history(self, history, x, x_before, ratio):
+        events.append(("held", x_before is None))
+        return step_history(self, history, x, x_before, ratio)
+
+    def recorded_advance(loop, aim, x, snapped=False):
+        events.append(("advanced", snapped))
+        return advanced(loop, aim, x, snapped)
+
+    monkeypatch.setattr(CapModel, "step_history", recorded_history)
+    monkeypatch.setattr(continuation, "_advanced", recorded_advance)
+    p = Parameters.from_config(validate(apply_overrides(paper_config, [
+        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
+        "friction.threshold_at=step_predicted", "solver.snap_through=true", "output.snapshot_ubar=[]"])))
+    res = run_case(p)
+    assert res.status == Status.COMPLETED, res.reason
+    after = [(events[i][1], events[i + 1][1]) for i in range(len(events) - 1)
+             if events[i][0] == "advanced" and events[i + 1][0] == "held"]
+    snaps = [held_at_start for snapped, held_at_start in after if snapped]
+    print(len(snaps), "snaps among", len(after), "steps")
+    assert snaps and all(snaps)
+    assert sum(not held_at_start for snapped, held_at_start in after if not snapped) > 10

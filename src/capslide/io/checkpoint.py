@@ -211,7 +211,7 @@ def state_arrays(s: PathState) -> tuple[dict[str, np.ndarray], dict]:
         arrays["viscous_c_inv"] = s.history.networks.c_inv
     loop = None if s.loop is None else {
         "value": s.loop.value, "step": s.loop.step, "value_prev": s.loop.value_prev, "smallest": s.loop.smallest,
-        "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending)}
+        "cutbacks": s.loop.cutbacks, "pending": list(s.loop.pending), "snapped": s.loop.snapped}
     header = {"leg": s.leg, "loop": loop, "targets": list(s.targets),
               "marks": _mark_rows(s.marks), "cutbacks": s.cutbacks,
               "smallest": s.smallest, "stage_h": s.stage_h, "time": s.history.time,
@@ -226,7 +226,8 @@ def path_state(data: dict[str, np.ndarray], meta: dict) -> PathState:
     check_arrays(data, meta)
     lm = meta["loop"]
     loop = None if lm is None else Loop(lm["value"], lm["step"], data["loop_x"], data.get("loop_x_prev"),
-                                        lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]))
+                                        lm["value_prev"], lm["smallest"], lm["cutbacks"], list(lm["pending"]),
+                                        lm.get("snapped", False))
     networks = None if "viscous_networks" not in data else Networks(data["viscous_networks"], data["viscous_c_inv"])
     history = History(data.get("anchors"), data.get("accumulated_slip"), data.get("pressure_multiplier"), networks,
                       meta.get("time", 0.0), data.get("frozen_thresholds"))

@@ -75,6 +75,8 @@ def _loop(lm: Any) -> None:
     _number(lm, "smallest", "loop.", minimum=0.0)
     _number(lm, "cutbacks", "loop.", integer=True, minimum=0)
     _finite_list(lm.get("pending"), "loop.pending")
+    if not isinstance(lm.get("snapped", False), bool):
+        raise BadField("loop.snapped", f"= {lm['snapped']!r} is not true or false")
 
 
 def _marks(marks: Any, name: str = "marks") -> None:

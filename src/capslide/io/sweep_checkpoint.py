@@ -62,7 +62,7 @@ def save_sweep(path: Path, config_yaml: str, saved: SavedSweep) -> None:
 
 def _loop_header(loop: Loop) -> dict:
     return {"step": float(loop.step), "value_prev": float(loop.value_prev), "smallest": float(loop.smallest),
-            "cutbacks": int(loop.cutbacks), "pending": [float(b) for b in loop.pending]}
+            "cutbacks": int(loop.cutbacks), "pending": [float(b) for b in loop.pending], "snapped": bool(loop.snapped)}
 
 
 def _loop_of(meta: dict, data: dict, x: np.ndarray, X: float) -> Loop | None:
@@ -70,7 +70,7 @@ def _loop_of(meta: dict, data: dict, x: np.ndarray, X: float) -> Loop | None:
         return None
     m = meta["loop"]
     return Loop(X, float(m["step"]), x, data.get("loop_x_prev"), float(m["value_prev"]), float(m["smallest"]),
-                int(m["cutbacks"]), [float(b) for b in m["pending"]])
+                int(m["cutbacks"]), [float(b) for b in m["pending"]], bool(m.get("snapped", False)))
 
 
 def load_sweep(path: Path, config_yaml: str) -> SavedSweep:

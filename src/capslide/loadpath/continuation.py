@@ -83,6 +83,7 @@ class Loop:
     smallest: float = math.inf  # smallest step taken
     cutbacks: int = 0
     pending: list[float] = field(default_factory=list)  # breakpoints still ahead: steps end exactly on them
+    snapped: bool = False  # the step to x snapped through: its change predicts no threshold (held_history)
 
     @classmethod
     def start(cls, x: np.ndarray, start: float, end: float, control: StepControl, breakpoints=()) -> Loop:
@@ -207,6 +208,14 @@ def _step_ratio(loop: Loop, target: float) -> float:
     return (target - loop.value) / last if loop.x_prev is not None and last != 0.0 else 0.0
 
 
+def held_history(model: CapModel, loop: Loop, history: History, target: float) -> History:
+    """The friction history a step from ``loop.x`` to ``target`` holds (:meth:`CapModel.step_history`): with
+    ``friction.threshold_at = step_predicted`` the thresholds extrapolated along the last converged step, except
+    after a snap, whose jump is no rate of change: then the thresholds at x."""
+    before = None if loop.snapped else loop.x_prev
+    return model.step_history(history, loop.x, before, _step_ratio(loop, target))
+
+
 def _solved_step(model: CapModel, loop: Loop, leg: Leg, history: History, target: float, opts: NewtonOptions,
                  dt: float, constraint) -> tuple[NewtonResult, History]:
     """Newton on the step to ``target``; a leg's first step with ``stick_first`` starts from its stick solution
@@ -284,10 +293,11 @@ def _cut_back(loop: Loop, leg: Leg, step: float, reason: str) -> LegEnd | Notice
     return Notice(f"{name}: cut-back {loop.cutbacks} at {loop.value:.4g}, step {loop.step:.3g} ({reason})")
 
 
-def _advanced(loop: Loop, aim: _Aim, x: np.ndarray) -> float | None:
-    """Move ``loop`` to the converged state ``x`` at the aim's target; the breakpoint it landed on, if any."""
+def _advanced(loop: Loop, aim: _Aim, x: np.ndarray, snapped: bool = False) -> float | None:
+    """Move ``loop`` to the converged state ``x`` at the aim's target (``snapped``: reached by a snap-through); the
+    breakpoint it landed on, if any."""
     loop.x_prev, loop.value_prev = loop.x, loop.value
-    loop.x, loop.value = x, aim.target
+    loop.x, loop.value, loop.snapped = x, aim.target, snapped
     loop.smallest = min(loop.smallest, aim.step)
     if loop.pending and aim.target == loop.pending[0]:
         return loop.pending.pop(0)
@@ -315,7 +325,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
         t0 = time.perf_counter()
         constraint = leg.constraint_of(aim.target)
         dt = leg.seconds_per_unit * abs(aim.target - loop.value)
-        held = model.step_history(history, loop.x, loop.x_prev, _step_ratio(loop, aim.target))
+        held = held_history(model, loop, history, aim.target)
         res, solved = _solved_step(model, loop, leg, held, aim.target, opts, dt, constraint)
         rec, reason, still_steady = _judged(model, loop, leg, res, solved, aim, constraint, time.perf_counter() - t0, dt)
         if rec is None:
@@ -333,7 +343,7 @@ def continuation(model: CapModel, loop: Loop, history: History,
             yield outcome
             if rec is None:
                 continue
-        landed = _advanced(loop, aim, res.x)
+        landed = _advanced(loop, aim, res.x, rec.snapped)
         history = model.commit(loop.x, constraint.ubar, solved, dt)  # the history only at converged steps
         status = leg.ends(rec) if leg.ends is not None else None
         leg_end = LegEnd(status, f"{leg.name}: {status.label} at {loop.value:.6g}") if status is not None else None
