@@ -197,6 +197,7 @@ class Loading:
     readhesion_snap: str = "end"  # a snap from a peeling to a re-adhered contact: end (detached) or follow
     slide_back: bool = False  # after ubar_max, slide back to ubar = 0
     max_cutbacks: int = 200  # step halvings per load phase before the case is declared diverged
+    slide_growth_iterations: int = 4  # a slide step of at most this many Newton iterations lets the next one grow
     preload_via: tuple[float, ...] = ()  # E L0: forces the preload lands on when it passes them
     normal_control: str = "force"  # while sliding: force, height or spring
     spring_stiffness: float | None = None  # E (2D: force per width per length) or E L0 (3D) of normal_control = spring
@@ -337,6 +338,7 @@ class Parameters:
             min_slide_step=float(load["min_slide_step"]), stop_at_onset=bool(load["stop_at_onset"]),
             readhesion_snap=load["readhesion_snap"],
             slide_back=bool(load["slide_back"]), max_cutbacks=int(load["max_cutbacks"]),
+            slide_growth_iterations=int(load["slide_growth_iterations"]),
             normal_control=load["normal_control"],
             spring_stiffness=None if load["spring_stiffness"] is None else load["spring_stiffness"] / spring_unit(config),
             velocity=None if load["velocity"] is None else load["velocity"] / units.L0,

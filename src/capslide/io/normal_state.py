@@ -45,6 +45,7 @@ FORMAT = "capslide normal state 1"
 
 # dotted keys (or sections, ending in '.') that act from the slide on: they change nothing before it
 SLIDE_ONLY = ("friction.", "loading.slide_step", "loading.max_slide_step", "loading.min_slide_step",
+              "loading.slide_growth_iterations",
               "loading.slide_back", "loading.stop_at_onset", "loading.readhesion_snap",
               "loading.normal_control", "loading.spring_stiffness",
               "loading.dwell", "output.snapshot_ubar", "study.")

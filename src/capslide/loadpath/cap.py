@@ -150,7 +150,8 @@ def _force_control(model: CapModel) -> StepControl:
 
 def _slide_control(model: CapModel) -> StepControl:
     L = model.params.loading
-    return StepControl(L.slide_step, L.min_slide_step, L.max_slide_step, max_cutbacks=L.max_cutbacks)
+    return StepControl(L.slide_step, L.min_slide_step, L.max_slide_step, easy_iterations=L.slide_growth_iterations,
+                       max_cutbacks=L.max_cutbacks)
 
 
 def _min_area(model: CapModel) -> float:  # a contact shorter than two surface elements has come off
