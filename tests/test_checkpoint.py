@@ -15,7 +15,7 @@ from capslide.io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWr
 from capslide.params import Parameters
 from capslide.states import Phase
 
-from conftest import PAPER_CONFIG, default_sigint
+from conftest import FOLD, PAPER_CONFIG, default_sigint
 
 COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
           "loading.slide_back=true"]
@@ -338,9 +338,7 @@ def test_a_checkpoint_right_after_a_snap_resumes_with_the_thresholds_held(paper_
     """With ``step_predicted`` the step after a snap holds the thresholds at its start (continuation.held_history):
     a checkpoint saved right after the snap carries that, and the resumed run repeats the uninterrupted one bit for
     bit. The 2D cap's fold of tests/test_snap_through.py."""
-    config = validate(apply_overrides(paper_config, [
-        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
-        "friction.threshold_at=step_predicted", "solver.snap_through=true", "output.snapshot_ubar=[]"]))
+    config = validate(apply_overrides(paper_config, [*FOLD, "friction.threshold_at=step_predicted"]))
     params, text = Parameters.from_config(config), config_text(config)
     full = run_saving(params, tmp_path / "full", 10_000)
     n = next(i + 1 for i, r in enumerate(full.records) if r.snapped)

@@ -16,12 +16,18 @@ from capslide.params import Parameters
 from capslide.solvers.newton import NewtonResult
 from capslide.states import Phase, Status
 
+from conftest import FOLD
+
 COARSE = ["mesh.size=32", "loading.ubar_max=1.0", "loading.max_slide_step=0.2", "output.snapshot_ubar=[]",
           "loading.preload=0.0"]
 
 
 def _params(paper_config, *overrides) -> Parameters:
     return Parameters.from_config(validate(apply_overrides(paper_config, [*COARSE, *overrides])))
+
+
+def _fold(paper_config, *overrides) -> Parameters:
+    return Parameters.from_config(validate(apply_overrides(paper_config, [*FOLD, *overrides])))
 
 
 def test_pseudo_transient_continuation_reaches_the_equilibrium(paper_config):
@@ -271,9 +277,7 @@ def test_the_snap_on_the_energy_passes_the_2d_caps_fold(paper_config, monkeypatc
         return res
 
     monkeypatch.setattr(snap, "_on_the_energy", counted)
-    p = Parameters.from_config(validate(apply_overrides(paper_config, [
-        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
-        "friction.threshold_at=step_start", "solver.snap_through=true", "output.snapshot_ubar=[]"])))
+    p = _fold(paper_config, "friction.threshold_at=step_start")
     res = run_case(p)
     assert res.status == Status.COMPLETED, res.reason
     assert taken and all(t.converged and t.iterations < 40 for t in taken)
@@ -300,9 +304,7 @@ def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(paper_config, m
 
     monkeypatch.setattr(CapModel, "step_history", recorded_history)
     monkeypatch.setattr(continuation, "_advanced", recorded_advance)
-    p = Parameters.from_config(validate(apply_overrides(paper_config, [
-        "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
-        "friction.threshold_at=step_predicted", "solver.snap_through=true", "output.snapshot_ubar=[]"])))
+    p = _fold(paper_config, "friction.threshold_at=step_predicted")
     res = run_case(p)
     assert res.status == Status.COMPLETED, res.reason
     after = [(events[i][1], events[i + 1][1]) for i in range(len(events) - 1)
@@ -318,10 +320,7 @@ def test_slide_steps_grow_back_after_harder_solves_when_asked(paper_config):
     next one grow. On the 2D cap's fold (steps cut back by 25 halvings at the default of 4) a limit of 30 lets every
     converged step grow back: about half the slide steps (measured 57 against 113), Ft at the end within 1 %."""
     def slide(growth: int) -> list:
-        p = Parameters.from_config(validate(apply_overrides(paper_config, [
-            "preset=fast", "mesh.size=32", "loading.preload=0", "loading.max_slide_step=0.2", "loading.ubar_max=2.2",
-            "friction.threshold_at=step_predicted", "solver.snap_through=true", "output.snapshot_ubar=[]",
-            f"loading.slide_growth_iterations={growth}"])))
+        p = _fold(paper_config, "friction.threshold_at=step_predicted", f"loading.slide_growth_iterations={growth}")
         res = run_case(p)
         assert res.status == Status.COMPLETED, res.reason
         return [r for r in res.records if r.phase == Phase.SLIDE]
