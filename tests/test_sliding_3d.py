@@ -250,7 +250,7 @@ REGROWN = ("slide: the contact came off at ubar = 35.76 (its area fell to 25300;
                                                            ("detached", REGROWN, "re-adhered")])
 def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, status, reason, outcome):
     """A slide that found no equilibrium on (exit 4: kept by the experiment3d workflow), lost its contact, or was
-    ended by the regrowth rule (a snap from a peeling contact to a re-adhered one, which need not have come off)
+    ended by the regrowth rule (a snap to a re-adhered contact, which need not have come off)
     ends the table's row with its last Ft, not a sliding onset."""
     from capslide.studies.experiment_3d import features
 

@@ -17,8 +17,8 @@ by a face, on one side of the jump); ``Fn0``, its normal load (compressive > 0, 
 reached the peak, um: the step error's scale there, set by the cut-backs, not by ``loading.max_slide_step``) and
 ``t_peak`` = travel / v;
 ``outcome``: ``sliding`` (the contact reached full sliding, at ``Ft_end`` = its Ft there), ``vanished`` (the
-contact came off, at ``Ft_end`` = the last Ft), ``re-adhered`` (the regrowth rule ended the slide: the peeling
-contact snapped to a state with more area, :func:`capslide.loadpath.slide_rules.regrowth_check`; whether it came
+contact came off, at ``Ft_end`` = the last Ft), ``re-adhered`` (the regrowth rule ended the slide: the contact
+snapped to a state with more area, :func:`capslide.loadpath.slide_rules.regrowth_check`; whether it came
 off is read from ``area_end_pct``), ``stopped`` (the slide found no equilibrium on: a fold, or no convergence at the
 smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide); ``ubar_end`` (um) and
 ``area_end_pct`` (A / A0, %) at the slide's last converged step: how much contact a case that ended short had left.
