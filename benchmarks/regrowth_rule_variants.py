@@ -2,11 +2,10 @@
 
 The regrowth rule (``slide_rules.regrowth_check``, ``loading.readhesion_snap: end``) ends a slide at a snap-through
 whose state re-adheres: the snap's area exceeds the last step's by more than 20 % (up to 477cd4a also only where
-the last step's area fell). It judges
-snapped steps only and changes nothing before the end, so a variant that ends a slide no later than the rule did
-ends it at a snapped step of the file (or at the file's last event) with the same path before it: its peak is
-read off the file exactly. A variant that lets the file's last event pass would go on past the file (not known
-here).
+the last step's area fell). It judges snapped steps only and changes nothing before the end, so a variant that ends
+a slide no later than the rule did ends it at a snapped step of the file (or at the file's last event) with the
+same path before it: its peak is read off the file exactly. A variant that lets the file's last event pass would
+go on past the file (not known here).
 
     .venv/bin/python benchmarks/regrowth_rule_variants.py results/paper/experiment3d/cases/*.nc
 
