@@ -79,3 +79,19 @@ def test_a_checkpoint_keeps_the_bracket_of_a_preload_to_an_area():
     check_header({**header, "elapsed": 0.0, "chunks": []}, "checkpoint")
     assert path_state(arrays, header).area_bracket == bracket
     assert path_state(arrays, {k: v for k, v in header.items() if k != "area_bracket"}).area_bracket == []
+
+
+def test_the_outlines_show_the_snapshot_times_and_name_those_past_the_slides_end():
+    """A0 = 0.27 mm^2 whose slide ended at 0.369 s: only 0 s is drawn, the later times are named as past the end; a
+    time before the end without a snapshot is named as missing."""
+    from capslide.figures.experiment_3d import snapshot_panels
+
+    times = (0.0, 0.45, 0.62, 0.73)
+    shown, note = snapshot_panels([0.0], times, 0.369)
+    assert shown == [(0.0, 0)]
+    assert note == "0.45, 0.62 and 0.73 s: after the slide's end at 0.369 s"
+    shown, note = snapshot_panels([0.0, 0.62], times, 0.7)
+    assert shown == [(0.0, 0), (0.62, 1)]
+    assert note == "0.73 s: after the slide's end at 0.7 s; 0.45 s: no snapshot in the file"
+    shown, note = snapshot_panels([0.0, 0.4505, 0.62, 0.725], times, 2.0)  # within 1 ms, and 5 ms off
+    assert shown == [(0.0, 0), (0.45, 1), (0.62, 2)] and note == "0.73 s: no snapshot in the file"

@@ -239,6 +239,9 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     table, panels = tmp_path / "table.md", tmp_path / "panels.png"
     assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
     assert "sliding" in table.read_text() and panels.stat().st_size > 0
+    table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
+    assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
+    assert not table2.exists() and not outlines.exists()
 
 
 REGROWN = ("slide: the contact came off at ubar = 35.76 (its area fell to 25300; the next equilibrium found "

@@ -251,6 +251,13 @@ def cmd_experiment3d(args) -> int:
     panels = check_outputs(args.panels or [], {"pdf", "png"})
     outlines = check_outputs(args.outlines or [], {"pdf", "png"})
     cases = read_cases(args.files)
+    shown = None
+    if outlines:  # the experiment's snapshots are of A0 = 0.27 mm^2 (its figure 4), at times in s
+        main = [c for c in cases if "_lambda" not in c["case"]] or cases
+        shown = min(main, key=lambda c: abs(c["A0"] - 0.27))
+        if not shown["v"]:
+            raise InputError(f"--outlines: '{shown['path']}' has loading.velocity = null: the experiment's snapshot "
+                             "times (s) need a stage speed")
     rows = [{k: c[k] for k in TABLE_COLUMNS} for c in cases]
     for out in outputs:
         write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
@@ -261,8 +268,7 @@ def cmd_experiment3d(args) -> int:
         with figures.journal_style():
             if panels:
                 figures.save(fig_experiment3d_panels(cases), panels)
-            if outlines:  # the experiment's snapshots are of A0 = 0.27 mm^2 (its figure 4)
-                shown = min((c for c in cases if "_lambda" not in c["case"]), key=lambda c: abs(c["A0"] - 0.27))
+            if outlines:
                 with open_result(Path(shown["path"]), "case") as case:
                     figures.save(fig_experiment3d_outlines(case), outlines)
     for r in rows:

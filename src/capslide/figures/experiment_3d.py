@@ -7,11 +7,12 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..states import Phase
 from ..studies.experiment_3d import window
 from .sphere import outline_loops
-from .style import BLUE, DOUBLE_COLUMN, GREEN, ORANGE, PURPLE
+from .style import BLUE, DOUBLE_COLUMN, GREEN, ORANGE, PURPLE, SINGLE_COLUMN
 
-__all__ = ["fig_experiment3d_panels", "fig_experiment3d_outlines"]
+__all__ = ["fig_experiment3d_panels", "fig_experiment3d_outlines", "snapshot_panels"]
 
 _COLORS = ("k", BLUE, ORANGE, GREEN, PURPLE, "0.55", "tab:red", "tab:brown")
 _ENDED = {"vanished": " (vanished)", "re-adhered": " (ended by a snap)"}  # the legend's note on a slide ended short
@@ -57,21 +58,48 @@ def fig_experiment3d_panels(cases: list[dict]):
     return fig
 
 
+def snapshot_panels(snapshot_times, times_s, t_end: float) -> tuple[list[tuple[float, int]], str]:
+    """Which of the experiment's times ``times_s`` (s) a case shows: (time, snapshot index) for each time within 1 ms
+    of a snapshot time (s), and a note on the rest, those after the slide's end ``t_end`` (s) named as such."""
+    snapshot_times = np.asarray(snapshot_times, dtype=float)
+    shown, late, absent = [], [], []
+    for t in times_s:
+        k = int(np.argmin(np.abs(snapshot_times - t))) if len(snapshot_times) else -1
+        if k >= 0 and abs(snapshot_times[k] - t) <= 1e-3:
+            shown.append((t, k))
+        else:
+            (late if t > t_end else absent).append(t)
+    parts = []
+    if late:
+        parts.append(f"{_listed(late)} s: after the slide's end at {t_end:.3g} s")
+    if absent:
+        parts.append(f"{_listed(absent)} s: no snapshot in the file")
+    return shown, "; ".join(parts)
+
+
+def _listed(times) -> str:
+    words = [f"{t:g}" for t in times]
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
+
+
 def fig_experiment3d_outlines(case, times_s=(0.0, 0.45, 0.62, 0.73, 0.88, 1.25, 1.75)):
     """The contact (line) and its stick zone (shaded) seen from above at the experiment's snapshot times (s after
     the start of the slide, at the case's stage speed), in um; the plate slides along +x. ``case``: a case file
-    (xarray) whose snapshots lie at those times."""
+    (xarray) whose snapshots lie at those times; the times it has no snapshot of are named under the panels (those
+    after a slide that ended early)."""
     import yaml
 
     config = yaml.safe_load(case.attrs["config_yaml"])
     um, v = config["geometry"]["L0"] * 1e6, config["loading"]["velocity"]
-    ubar = np.asarray(case.snapshot_ubar.values, dtype=float)
-    fig, axes = plt.subplots(1, len(times_s), figsize=(DOUBLE_COLUMN, 1.55), sharex=True, sharey=True, squeeze=False)
-    for ax, t in zip(axes[0], times_s):
-        k = int(np.argmin(np.abs(ubar * um * 1e-6 / v - t)))
-        if abs(ubar[k] * um * 1e-6 / v - t) > 1e-3:
-            ax.set_visible(False)
-            continue
+    seconds = um * 1e-6 / v  # s per L0 of stage travel
+    slide = np.flatnonzero(case.phase.values == Phase.SLIDE)
+    t_end = float(case.ubar.values[slide[-1]]) * seconds if len(slide) else 0.0
+    shown, note = snapshot_panels(np.asarray(case.snapshot_ubar.values, dtype=float) * seconds, times_s, t_end)
+    n = max(len(shown), 1)
+    width = DOUBLE_COLUMN if n >= 4 else max(SINGLE_COLUMN, 1.9 * n)
+    fig, axes = plt.subplots(1, n, figsize=(width, 1.55 + (0.25 if note else 0.0)), sharex=True, sharey=True,
+                             squeeze=False)
+    for ax, (t, k) in zip(axes[0], shown):
         stick = np.column_stack([case.stick_outline_x[k].values, case.stick_outline_y[k].values]) * um
         outline = np.column_stack([case.outline_x[k].values, case.outline_y[k].values]) * um
         for loop in outline_loops(stick):
@@ -81,6 +109,11 @@ def fig_experiment3d_outlines(case, times_s=(0.0, 0.45, 0.62, 0.73, 0.88, 1.25, 
         ax.set_aspect("equal")
         ax.set_title(f"{t:g} s", fontsize=7)
         ax.set_xlabel(r"$x$ ($\mu$m)")
+    if not shown:
+        axes[0, 0].set_axis_off()
     axes[0, 0].set_ylabel(r"$y$ ($\mu$m)")
     fig.tight_layout()
+    if note:
+        fig.subplots_adjust(bottom=fig.subplotpars.bottom + 0.12)
+        fig.text(0.5, 0.01, note, ha="center", va="bottom", fontsize=6.5)
     return fig
