@@ -239,6 +239,12 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     table, panels = tmp_path / "table.md", tmp_path / "panels.png"
     assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
     assert "sliding" in table.read_text() and panels.stat().st_size > 0
+    from capslide.figures.experiment_3d import fig_experiment3d_panels
+
+    fig = fig_experiment3d_panels([c])  # quasi-static: drawn against the stage travel, not against no time
+    for ax in fig.axes:
+        assert ax.lines and all(np.isfinite(line.get_xdata()).all() for line in ax.lines)
+    assert fig.axes[0].get_xlabel() == r"$\bar u$ ($\mu$m)"
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()

@@ -20,36 +20,38 @@ _ENDED = {"vanished": " (vanished)", "re-adhered": " (ended by a snap)"}  # the 
 
 def fig_experiment3d_panels(cases: list[dict]):
     """(a) Ft and (b) A against time from the start of the slide, (c) A against Ft up to the peak, (d) Ft / A against
-    time for the largest initial area; squares at the peaks, each curve to the peak plus half a contact width (the
-    paper's window). ``cases``: :func:`capslide.studies.experiment_3d.read_cases` (the lambda checks are left out)."""
+    time for the largest initial area (against the stage travel in um where a case has no stage speed); squares at
+    the peaks, each curve to the peak plus half a contact width (the paper's window). ``cases``:
+    :func:`capslide.studies.experiment_3d.read_cases` (the lambda checks are left out)."""
     main = [c for c in cases if "_lambda" not in c["case"]]
+    timed = all(c["v"] for c in main)  # quasi-static cases (no stage speed) are drawn against the stage travel
+    key, xlabel = ("time", r"$t - t_\mathrm{start}$ (s)") if timed else ("ubar", r"$\bar u$ ($\mu$m)")
     fig, axes = plt.subplots(2, 2, figsize=(DOUBLE_COLUMN, 0.72 * DOUBLE_COLUMN))
     (a, b), (c_ax, d) = axes
     for k, c in enumerate(main):
         w, color = window(c), _COLORS[k % len(_COLORS)]
-        t, Ft, A = c["time"][w], c["Ft"][w], c["area"][w]
+        t, Ft, A = c[key][w], c["Ft"][w], c["area"][w]
         label = f"$A_0 = {c['A0']:.2f}$ mm$^2$" + _ENDED.get(c["outcome"], "")
         a.plot(t, Ft, color=color, lw=1.0, label=label)
         b.plot(t, A, color=color, lw=1.0)
-        if np.isfinite(c["t_peak"]):
+        if np.isfinite(c["travel_to_peak"]):
             kp = int(np.argmax(np.abs(c["Ft"])))
-            a.plot(c["t_peak"], c["peak_Ft"], "s", ms=3.5, color=color)
-            b.plot(c["t_peak"], c["area"][kp], "s", ms=3.5, color=color)
+            a.plot(c[key][kp], c["peak_Ft"], "s", ms=3.5, color=color)
+            b.plot(c[key][kp], c["area"][kp], "s", ms=3.5, color=color)
             up = w[w <= kp]
             c_ax.plot(c["Ft"][up], c["area"][up], color=color, lw=1.0)
             c_ax.plot(c["peak_Ft"], c["area"][kp], "s", ms=3.5, color=color)
     a.set_ylabel(r"$F_t$ (mN)")
     b.set_ylabel(r"$A$ (mm$^2$)")
-    for ax in (a, b):
-        ax.set_xlabel(r"$t - t_\mathrm{start}$ (s)")
+    for ax in (a, b, d):
+        ax.set_xlabel(xlabel)
     c_ax.set_xlabel(r"$F_t$ (mN)")
     c_ax.set_ylabel(r"$A$ (mm$^2$)")
     if main:
         big = max(main, key=lambda c: c["A0"])
         w = window(big)
-        d.plot(big["time"][w], big["Ft"][w] / big["area"][w] * 1e-3, color="k", lw=1.0)
+        d.plot(big[key][w], big["Ft"][w] / big["area"][w] * 1e-3, color="k", lw=1.0)
         d.set_title(f"$A_0 = {big['A0']:.2f}$ mm$^2$", fontsize=8)
-    d.set_xlabel(r"$t - t_\mathrm{start}$ (s)")
     d.set_ylabel(r"$F_t / A$ (MPa)")
     a.legend(frameon=False, fontsize=6.5, loc="upper left")
     for ax, tag in zip(axes.ravel(), "abcd"):
