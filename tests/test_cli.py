@@ -155,6 +155,30 @@ def test_bad_command_lines(run, tmp_path, argv, words):
     assert sorted(tmp_path.rglob("*")) == before  # nothing written, not even a directory
 
 
+def test_experiment3d_of_a_2d_case_stops_with_one_line(run, tmp_path):
+    """The experiment's table reads 3D sphere cases: a 2D case file is named in one line, exit 2, nothing written."""
+    case = tmp_path / "cap.nc"
+    res = run("run", "--scene", "cap", "--set", "preset=fast", "--set", "loading.ubar_max=0.3", "-q", "-o", case)
+    assert res.returncode == 0, res.stderr
+    res = run("experiment3d", case, "-o", tmp_path / "t.md", "--panels", tmp_path / "p.png")
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1 and "cap.nc" in lines[0] and "not a 3D sphere case" in lines[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cap.nc"]
+
+
+def test_aczoom_of_a_case_without_its_snapshots_stops_with_one_line(run, tmp_path):
+    """f:cap:Aczoom shows the snapshots at ubar = 0.5 to 4 L0: a case with others is named in one line, exit 2."""
+    case = tmp_path / "cap.nc"
+    res = run("run", "--scene", "cap", "--set", "preset=fast", "--set", "loading.ubar_max=0.3", "--set",
+              "output.snapshot_ubar=[0.3]", "-q", "-o", case)
+    assert res.returncode == 0, res.stderr
+    res = run("figure", "cap_Aczoom", "--input", case, "-o", tmp_path / "f.png")
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1 and "no snapshot at ubar = 0.5, 1," in lines[0], res.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cap.nc"]
+    assert run("figure", "cap_xn", "--input", case, "-o", tmp_path / "f.png").returncode == 0  # any snapshot
+
+
 def test_verify_that_finds_no_equilibrium_stops_with_one_line(run, tmp_path):
     """A verification sweep whose solver gives up: exit 4 (diverged), one line on stderr, no table, no traceback."""
     scene = PAPER_CONFIG.parent / "scenes" / "hertz.yaml"

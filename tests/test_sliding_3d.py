@@ -248,6 +248,9 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()
+    for name in ("cap_xn", "cap_Aczoom"):  # the 2D cap's figures refuse a 3D case, which they drew as if 2D
+        assert main(["figure", name, "--input", path, "-o", str(tmp_path / f"{name}.png")]) == 2
+    assert not (tmp_path / "cap_xn.png").exists() and not (tmp_path / "cap_Aczoom.png").exists()
 
 
 REGROWN = ("slide: the contact came off at ubar = 35.76 (its area fell to 25300; the next equilibrium found "

@@ -11,9 +11,9 @@ from .common import InputError, check_outputs, parameters
 __all__ = ["cmd_figure", "FIGURE_HELP"]
 
 FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_FnJKR) from CONFIG, cap_setup from "
-               "--input MESH.nc, cap_PxAndAc, cap_PxOverAc and cap_FtOverA from --input CASES.nc, cap_Aczoom and cap_xn from "
-               "--input CASE.nc, sphere_Tn and sphere_Pa from --input CASE.nc of a 3D case, verification from --table "
-               "FILE.csv")
+               "--input MESH.nc, cap_PxAndAc, cap_PxOverAc and cap_FtOverA from --input CASES.nc, cap_Aczoom and "
+               "cap_xn from --input CASE.nc, sphere_Tn, sphere_Pa and sphere_Aczoom from --input CASE.nc of a 3D "
+               "case, verification from --table FILE.csv")
 
 
 def _tau_DI(cases) -> float | None:
@@ -47,10 +47,19 @@ def cmd_figure(args) -> int:
     elif args.name in figures.CASE_FIGURES:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASE.nc (from capslide run)")
+        from ..figures.cap import ACZOOM_UBAR, aczoom_snapshots
+
         case = open_result(args.input, "case")
+        element = config_of(args.input)["mesh"]["element"]
+        if element in ("H1", "H2"):
+            raise InputError(f"'{args.input}' is a 3D case (mesh.element = {element}); figure '{args.name}' draws "
+                             "the 2D cap (a 3D case's: sphere_Tn, sphere_Pa, sphere_Aczoom)")
         if case.sizes.get("snapshot_ubar", 0) == 0:
             raise InputError(f"'{args.input}' holds no field snapshots (figure '{args.name}' needs them: "
                              "output.snapshot_ubar)")
+        if args.name == "cap_Aczoom" and not aczoom_snapshots(case["snapshot_ubar"].values):
+            raise InputError(f"'{args.input}' holds no snapshot at ubar = {', '.join(f'{u:g}' for u in ACZOOM_UBAR)} "
+                             "(figure 'cap_Aczoom' shows those: output.snapshot_ubar)")
         draw = lambda: figures.CASE_FIGURES[args.name](case)  # noqa: E731
     elif args.name in figures.SPHERE_FIGURES:
         if not args.input:

@@ -274,7 +274,16 @@ def _fit_height(fig, axes, rect) -> None:
         fig.tight_layout(rect=rect)
 
 
-def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)):
+ACZOOM_UBAR = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)  # f:cap:Aczoom's snapshots (L0)
+
+
+def aczoom_snapshots(snapshot_ubar, panels=ACZOOM_UBAR) -> list[int]:
+    """The indices of the snapshots (ubar in L0) that f:cap:Aczoom shows: those at its panels' ubar."""
+    snaps = np.asarray(snapshot_ubar, dtype=float)
+    return [int(np.argmin(np.abs(snaps - u))) for u in panels if snaps.size and np.min(np.abs(snaps - u)) < 1e-9]
+
+
+def fig_cap_Aczoom(case, stretch: float = 3.93, panels=ACZOOM_UBAR):
     """f:cap:Aczoom: the contact interface at the snapshots ubar = 0.5 ... 4.0 L0 (vertical axis stretched).
 
     Cap frame (base fixed, substrate moved by ubar in +x); cells coloured by
@@ -282,7 +291,7 @@ def fig_cap_Aczoom(case, stretch: float = 3.93, panels=(0.5, 1.0, 1.5, 2.0, 2.5,
     orange line; the substrate in grey above y = h.
     """
     snaps = case["snapshot_ubar"].values
-    ks = [int(np.argmin(np.abs(snaps - u))) for u in panels if np.min(np.abs(snaps - u)) < 1e-9]
+    ks = aczoom_snapshots(snaps, panels)
     if not ks:
         raise ValueError(f"no snapshots at ubar = {', '.join(f'{u:g}' for u in panels)} in the case file")
     k0 = int(np.argmin(np.abs(snaps))) if np.min(np.abs(snaps)) < 1e-9 else None

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from ..io.reading import open_result
+from ..io.reading import ResultFileError, open_result
 from ..laws import analytic, sphere
 from ..loadpath.slide_rules import REGROWTH
 from ..states import Phase
@@ -92,9 +92,16 @@ def window(c: dict) -> np.ndarray:
     return np.flatnonzero(c["ubar"] <= end + 1e-9)
 
 
+_CONTACT_3D = ("extent_ratio", "width_y", "x_left", "x_right")  # the contact's extents, which only 3D cases write
+
+
 def features(path: Path) -> dict:
     """The slide of one case file in SI units, and the numbers of :data:`TABLE_COLUMNS`."""
     ds = open_result(path, "case")
+    missing = [k for k in _CONTACT_3D if k not in ds]
+    if missing:
+        ds.close()
+        raise ResultFileError(f"'{path}' has no {missing[0]}: not a 3D sphere case (a 2D case has no contact extents)")
     config = yaml.safe_load(ds.attrs["config_yaml"])
     L0, E = config["geometry"]["L0"], config["material"]["E"]
     mN, mm2, um = E * L0**2 * 1e3, L0**2 * 1e6, L0 * 1e6
