@@ -5,10 +5,11 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from capslide.fem.mesh import CapMeshSpec, cap_mesh
-from capslide.io.reading import read_mesh
+from capslide.io.reading import ResultFileError, read_mesh
 from capslide.io.results import mesh_dataset, write_netcdf
 
 from cf_checks import check_cf
@@ -88,6 +89,11 @@ def test_case_files_and_the_collected_cube(tmp_path, paper_config, capsys):
         assert np.isnan(float(cube["peak_Ft"].sel(model="DI", preload=-0.1)))  # no such case
         assert int(cube["status"].sel(model="DI", preload=-0.1)) == -1 and int(cube["status"].sel(model="DI", preload=0.0)) == 0
         assert cube.peak_Ft.to_pandas().shape == (2, 2)
+    # a case in other units (E = 3 MPa: forces in 3 N/m) does not join the cube, which keeps the first case's units
+    cfg = validate(apply_overrides(paper_config, ["mesh.size=32", "loading.ubar_max=0.3", "material.E=3e6"]))
+    other = write_netcdf(case_dataset(run_case(Parameters.from_config(cfg))), tmp_path / "EA1_Fn+0.000.nc")
+    with pytest.raises(ResultFileError, match=r"EA1_Fn\+0.000.nc' has Fn in '3 N/m', '.*DI_Fn\+0.000.nc' in '2 N/m'"):
+        collect([paths[0], other])
     # inspect reads all three kinds of files capslide writes
     for path, first_words in ((out, "model "), (paths[0], "status ")):
         capsys.readouterr()

@@ -62,6 +62,7 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
 
     dims3 = ("model", "preload", "step")
     present = lambda names: [n for n in names if all(n in c.variables for c in cases)]  # noqa: E731 (time: with a velocity)
+    _check_units(paths, cases, present([*STEP_VARIABLES, *CASE_SCALARS, *STEP_COORDINATES]))
     data = {name: (dims3, cube(name, padded(name)), dict(cases[0][name].attrs)) for name in present(STEP_VARIABLES)}
     data.update({name: (("model", "preload"), cube(name, lambda i, n=name: float(cases[i][n])),
                         dict(cases[0][name].attrs)) for name in CASE_SCALARS})
@@ -104,6 +105,18 @@ def collect(paths, history: str | None = None) -> xr.Dataset:
     out.attrs.update({k: v for k, v in key_parameters(common).items() if k != "loading_preload"})
     out.attrs["n_cases"] = len(cases)
     return out
+
+
+def _check_units(paths, cases: list[xr.Dataset], names: list[str]) -> None:
+    """The cube keeps the first case's units, so every case must have them (the scales E L0 and E L0^2 differ
+    with geometry.L0, material.E and the dimension): a ResultFileError naming the first variable that differs."""
+    for name in names:
+        first = cases[0][name].attrs.get("units")
+        for path, case in zip(paths[1:], cases[1:]):
+            units = case[name].attrs.get("units")
+            if units != first:
+                raise ResultFileError(f"'{path}' has {name} in {units!r}, '{paths[0]}' in {first!r}: the cases of one "
+                                      "cube share their units (geometry.L0, material.E, 2D or 3D)")
 
 
 def _model_coordinates(paths, models: list[str], configs: list[dict]) -> dict:
