@@ -279,3 +279,17 @@ def test_the_experiment_table_says_how_a_slide_ended_short(di_sphere, tmp_path, 
     A0 = float(ds.area[np.flatnonzero(ds.phase.values == Phase.PRELOAD)[-1]])
     assert c["ubar_end"] == pytest.approx(float(slide.ubar[-1]), rel=1e-12)  # L0 = 1 um
     assert c["area_end_pct"] == pytest.approx(100 * float(slide.area[-1]) / A0, rel=1e-12)
+
+
+def test_the_experiment_table_says_a_preloaded_case_has_no_slide(di_sphere, tmp_path):
+    """A case preloaded only (its steps up to the slide's start) is a row with no slide, not one still running."""
+    from capslide.studies.experiment_3d import features
+
+    _, _, ds = di_sphere
+    before = np.flatnonzero(ds.phase.values != Phase.SLIDE)
+    normal = ds.load().isel(step=before).copy()
+    normal["onset_ubar"] = np.nan
+    path = tmp_path / "normal.nc"
+    normal.to_netcdf(path)
+    c = features(path)
+    assert c["outcome"] == "no slide" and math.isnan(c["Ft_end"]) and math.isnan(c["peak_Ft"])

@@ -20,7 +20,8 @@ reached the peak, um: the step error's scale there, set by the cut-backs, not by
 contact came off, at ``Ft_end`` = the last Ft), ``re-adhered`` (the regrowth rule ended the slide: the contact
 snapped to a state with more area, :func:`capslide.loadpath.slide_rules.regrowth_check`; whether it came
 off is read from ``area_end_pct``), ``stopped`` (the slide found no equilibrium on: a fold, or no convergence at the
-smallest step; ``Ft_end`` = the last Ft) or ``running`` (none of these, within the slide); ``ubar_end`` (um) and
+smallest step; ``Ft_end`` = the last Ft), ``running`` (none of these, within the slide) or ``no slide`` (a case
+preloaded only, ``loading.ubar_max`` = 0); ``ubar_end`` (um) and
 ``area_end_pct`` (A / A0, %) at the slide's last converged step: how much contact a case that ended short had left.
 """
 
@@ -119,7 +120,9 @@ def features(path: Path) -> dict:
     k = int(np.argmax(np.abs(c["Ft"]))) if len(slide) else None
     status = str(ds.attrs["status"])
     onset = float(ds["onset_ubar"]) * um
-    if math.isfinite(onset):
+    if not len(slide):
+        outcome, Ft_end = "no slide", math.nan
+    elif math.isfinite(onset):
         outcome, Ft_end = "sliding", float(ds["onset_Ft"]) * mN
     elif status == "detached":
         outcome = "re-adhered" if REGROWTH in str(ds.attrs.get("status_reason", "")) else "vanished"
