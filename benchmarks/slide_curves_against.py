@@ -7,21 +7,47 @@ changes, and the order it implies (log2 of the ratio: 1 for a first-order error,
 
     .venv/bin/python benchmarks/slide_curves_against.py a019_ann4.nc a019_ann8.nc --ubar 5 10 20 30 34
     .venv/bin/python benchmarks/slide_curves_against.py --halvings --ubar 15 20 25 30 -- s1.nc s05.nc s025.nc
+    .venv/bin/python benchmarks/slide_curves_against.py a010.nc --log a010_k8.log --ubar 5 10 15
+
+``--log LOG`` adds a case still running (or stopped), read from its progress lines (``capslide run``'s ``slide``
+lines, in E L0^2 and L0^2, converted with the first file's scales: the same scene); a step cut back and redone
+keeps its last line.
 """
 
 from __future__ import annotations
 
 import argparse
+import re
+from pathlib import Path
 
 import numpy as np
 
+from capslide.io.reading import config_of
 from capslide.studies.experiment_3d import features
+
+PROGRESS = re.compile(r"^slide\s+ubar=\s*(\S+).*?\sFt=\s*(\S+)\s+area=\s*(\S+)")
 
 
 def at(c: dict, key: str, ubar: float) -> float:
     """``c[key]`` at the travel ``ubar`` (um), linearly between steps; NaN past the last step."""
     u = c["ubar"]
     return float(np.interp(ubar, u, c[key])) if len(u) and ubar <= u[-1] + 1e-9 else float("nan")
+
+
+def progress_case(log: Path, like: str) -> dict:
+    """The slide steps of a case from its progress lines, in the units of :func:`features` (um, mN, mm^2), with the
+    scales of the case file ``like``; a travel met again (a resumed run redoing steps) keeps its last line."""
+    config = config_of(like)
+    L0, E = config["geometry"]["L0"], config["material"]["E"]
+    steps = {}
+    for line in Path(log).read_text(errors="replace").splitlines():
+        match = PROGRESS.match(line)
+        if match:
+            ubar, Ft, area = map(float, match.groups())
+            steps[ubar] = (Ft, area)
+    ubar = np.array(sorted(steps))
+    Ft, area = (np.array([steps[u][j] for u in ubar]) for j in (0, 1))
+    return {"case": Path(log).stem, "ubar": ubar * L0 * 1e6, "Ft": Ft * E * L0**2 * 1e3, "area": area * L0**2 * 1e6}
 
 
 def cell(value: float, fmt: str) -> str:
@@ -76,14 +102,21 @@ def main(argv=None) -> None:
     ap.add_argument("files", nargs="+", help="case files (.nc) of one case; the first is the reference")
     ap.add_argument("--ubar", type=float, nargs="+", default=[5, 10, 15, 20, 25, 30], help="stage travels (um)")
     ap.add_argument("--halvings", action="store_true", help="the files are one case at halved steps, coarsest first")
+    ap.add_argument("--log", type=Path, nargs="*", default=[], help="progress logs of running cases (capslide run)")
     args = ap.parse_args(argv)
     cases = [features(f) for f in args.files]
+    running = [progress_case(log, args.files[0]) for log in args.log]
+    cases += running
     print("\n".join(table(cases, args.ubar)))
     print()
     if args.halvings:
         print("\n".join(halving_table(cases, args.ubar)))
         print()
-    for c in cases:
+    for c in running:
+        k = int(np.argmax(np.abs(c["Ft"])))
+        print(f"{c['case']} (progress lines): largest Ft so far {abs(c['Ft'][k]):.2f} mN at {c['ubar'][k]:.2f} um, "
+              f"last step at {c['ubar'][-1]:.2f} um")
+    for c in cases[:len(cases) - len(running)]:
         print(f"{c['case']}: A0 {c['A0']:.4f} mm2, Fn0 {c['Fn0']:+.4f} mN, peak Ft {c['peak_Ft']:.2f} mN at "
               f"{c['travel_to_peak']:.2f} um (area lost {c['area_loss_pct']:.0f} %), {c['outcome']} at "
               f"{c['ubar_end']:.2f} um with {c['area_end_pct']:.0f} % of A0")
