@@ -245,6 +245,8 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     for ax in fig.axes:
         assert ax.lines and all(np.isfinite(line.get_xdata()).all() for line in ax.lines)
     assert fig.axes[0].get_xlabel() == r"$\bar u$ ($\mu$m)"
+    fig = fig_experiment3d_panels([{**c, "case": "A0.270_lambda3"}])  # a lambda check alone is drawn, not left out
+    assert all(ax.lines for ax in fig.axes)
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()

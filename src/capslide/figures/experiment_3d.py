@@ -22,8 +22,8 @@ def fig_experiment3d_panels(cases: list[dict]):
     """(a) Ft and (b) A against time from the start of the slide, (c) A against Ft up to the peak, (d) Ft / A against
     time for the largest initial area (against the stage travel in um where a case has no stage speed); squares at
     the peaks, each curve to the peak plus half a contact width (the paper's window). ``cases``:
-    :func:`capslide.studies.experiment_3d.read_cases` (the lambda checks are left out)."""
-    main = [c for c in cases if "_lambda" not in c["case"]]
+    :func:`capslide.studies.experiment_3d.read_cases` (the lambda checks are left out, unless they are all)."""
+    main = [c for c in cases if "_lambda" not in c["case"]] or cases  # the lambda checks alone: drawn
     timed = all(c["v"] for c in main)  # quasi-static cases (no stage speed) are drawn against the stage travel
     key, xlabel = ("time", r"$t - t_\mathrm{start}$ (s)") if timed else ("ubar", r"$\bar u$ ($\mu$m)")
     fig, axes = plt.subplots(2, 2, figsize=(DOUBLE_COLUMN, 0.72 * DOUBLE_COLUMN))
