@@ -98,4 +98,8 @@ def test_case_files_and_the_collected_cube(tmp_path, paper_config, capsys):
     for path, first_words in ((out, "model "), (paths[0], "status ")):
         capsys.readouterr()
         assert main(["inspect", str(path)]) == 0
-        assert capsys.readouterr().out.startswith(first_words)
+        printed = capsys.readouterr().out
+        assert printed.startswith(first_words)
+    with xr.open_dataset(paths[0]) as case:  # the case's scalars also in SI: Ft in E L0 = 2 N/m
+        line = next(row for row in printed.splitlines() if row.startswith("peak_Ft "))
+        assert line.endswith(f"(peak Ft)  = {float(case.peak_Ft) * 2.0:.6g} N/m"), line

@@ -258,6 +258,16 @@ def _inspect_cases(ds) -> None:
                   + f" {int(case['n_steps']):>6}")
 
 
+def _scalar_text(value: float, attrs) -> str:
+    """A case scalar, its long name and, where its units carry a scale ("1.6e-06 N": E L0^2), its value in SI."""
+    text = f"{value:.6g}  ({attrs.get('long_name', '')})"
+    scale, _, unit = str(attrs.get("units", "")).partition(" ")
+    try:
+        return f"{text}  = {value * float(scale):.6g} {unit}" if unit and np.isfinite(value) else text
+    except ValueError:  # units without a leading scale
+        return text
+
+
 def cmd_inspect(args) -> int:
     """Print parameters, status and case scalars of a case file as a table (a collected file: one line per case)."""
     ds = open_result(args.file)
@@ -278,7 +288,7 @@ def cmd_inspect(args) -> int:
             rows.append((key, ds.attrs[key]))
     for name in ("peak_Ft", "onset_ubar", "onset_Ft", "onset_area"):
         if name in ds:
-            rows.append((name, f"{float(ds[name]):.6g}  ({ds[name].attrs.get('long_name', '')})"))
+            rows.append((name, _scalar_text(float(ds[name]), ds[name].attrs)))
     if "step" in ds.sizes:
         rows.append(("steps", ds.sizes["step"]))
     width = max(len(k) for k, _ in rows)
