@@ -3,6 +3,7 @@ slips at the threshold (Ft = the integral of J_s t_slide over the surface, and c
 energy balance in the file; a frictionless sphere's slide changes nothing. Finer meshes: docs/sphere.md."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -247,6 +248,17 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert fig.axes[0].get_xlabel() == r"$\bar u$ ($\mu$m)"
     fig = fig_experiment3d_panels([{**c, "case": "A0.270_lambda3"}])  # a lambda check alone is drawn, not left out
     assert all(ax.lines for ax in fig.axes)
+    from capslide.studies.experiment_3d import window
+
+    last = window(c)[-1]  # the last step drawn: its contact gone
+    gone = {**c, "case": "gone", "area": np.where(np.arange(len(c["area"])) == last, 0.0, c["area"])}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no division by the vanished contact's zero area
+        fig = fig_experiment3d_panels([gone, c])  # panel (d): the first of the largest A0, gone
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]  # one area twice: told apart by name
+    assert len(set(labels)) == 2 and labels[0].endswith(", gone"), labels
+    stress = fig.axes[3].lines[0].get_ydata()
+    assert np.isnan(stress[-1]) and np.isfinite(stress[:-1]).all()  # Ft / A: none without contact
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()

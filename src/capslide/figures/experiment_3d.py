@@ -28,10 +28,12 @@ def fig_experiment3d_panels(cases: list[dict]):
     key, xlabel = ("time", r"$t - t_\mathrm{start}$ (s)") if timed else ("ubar", r"$\bar u$ ($\mu$m)")
     fig, axes = plt.subplots(2, 2, figsize=(DOUBLE_COLUMN, 0.72 * DOUBLE_COLUMN))
     (a, b), (c_ax, d) = axes
+    areas = [f"{c['A0']:.2f}" for c in main]
     for k, c in enumerate(main):
         w, color = window(c), _COLORS[k % len(_COLORS)]
         t, Ft, A = c[key][w], c["Ft"][w], c["area"][w]
-        label = f"$A_0 = {c['A0']:.2f}$ mm$^2$" + _ENDED.get(c["outcome"], "")
+        label = (f"$A_0 = {areas[k]}$ mm$^2$" + (f", {c['case']}" if areas.count(areas[k]) > 1 else "")  # a check of
+                 + _ENDED.get(c["outcome"], ""))  # one area (mesh, step): told apart by the file's name
         a.plot(t, Ft, color=color, lw=1.0, label=label)
         b.plot(t, A, color=color, lw=1.0)
         if np.isfinite(c["travel_to_peak"]):
@@ -50,7 +52,9 @@ def fig_experiment3d_panels(cases: list[dict]):
     if main:
         big = max(main, key=lambda c: c["A0"])
         w = window(big)
-        d.plot(big[key][w], big["Ft"][w] / big["area"][w] * 1e-3, color="k", lw=1.0)
+        Ft, A = big["Ft"][w], big["area"][w]
+        stress = np.divide(Ft, A, out=np.full_like(Ft, np.nan), where=A > 0) * 1e-3  # none once the contact is gone
+        d.plot(big[key][w], stress, color="k", lw=1.0)
         d.set_title(f"$A_0 = {big['A0']:.2f}$ mm$^2$", fontsize=8)
     d.set_ylabel(r"$F_t / A$ (MPa)")
     a.legend(frameon=False, fontsize=6.5, loc="upper left")
