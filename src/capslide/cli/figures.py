@@ -68,6 +68,9 @@ def cmd_figure(args) -> int:
         if "Z_node" not in case.coords or "traction_n" not in case:
             raise InputError(f"'{args.input}' is not a 3D case with surface profiles (figure '{args.name}' needs "
                              "mesh.element = H1 or H2 and output.surface_profiles)")
+        if args.name == "sphere_Aczoom" and case.sizes.get("snapshot_ubar", 0) == 0:
+            raise InputError(f"'{args.input}' holds no field snapshots (figure 'sphere_Aczoom' draws the contact at "
+                             "each: output.snapshot_ubar)")
         params = Parameters.from_config(config_of(args.input))
         draw = lambda: figures.SPHERE_FIGURES[args.name](case, params)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
