@@ -262,10 +262,14 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()
-    bare = tmp_path / "bare.nc"  # no snapshots: sphere_Aczoom has no contact to draw
-    ds.load().drop_dims("snapshot_ubar").to_netcdf(bare)
+    bare = tmp_path / "bare.nc"  # no snapshots: sphere_Aczoom and the outlines have no contact to draw
+    timed = ds.load().drop_dims("snapshot_ubar")
+    timed.attrs["config_yaml"] = timed.attrs["config_yaml"].replace("velocity: null", "velocity: 0.0001")
+    assert "velocity: 0.0001" in timed.attrs["config_yaml"]
+    timed.to_netcdf(bare)
     assert main(["figure", "sphere_Aczoom", "--input", str(bare), "-o", str(tmp_path / "az.png")]) == 2
-    assert not (tmp_path / "az.png").exists()
+    assert main(["experiment3d", str(bare), "-o", str(table2), "--outlines", str(outlines)]) == 2
+    assert not (tmp_path / "az.png").exists() and not table2.exists() and not outlines.exists()
     for name in ("cap_xn", "cap_Aczoom"):  # the 2D cap's figures refuse a 3D case, which they drew as if 2D
         assert main(["figure", name, "--input", path, "-o", str(tmp_path / f"{name}.png")]) == 2
     assert not (tmp_path / "cap_xn.png").exists() and not (tmp_path / "cap_Aczoom.png").exists()

@@ -258,6 +258,10 @@ def cmd_experiment3d(args) -> int:
         if not shown["v"]:
             raise InputError(f"--outlines: '{shown['path']}' has loading.velocity = null: the experiment's snapshot "
                              "times (s) need a stage speed")
+        with open_result(Path(shown["path"]), "case") as case:
+            if case.sizes.get("snapshot_ubar", 0) == 0:
+                raise InputError(f"--outlines: '{shown['path']}' holds no field snapshots (output.snapshot_ubar: the "
+                                 "experiment's times)")
     rows = [{k: c[k] for k in TABLE_COLUMNS} for c in cases]
     for out in outputs:
         write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
