@@ -240,7 +240,16 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     table, panels = tmp_path / "table.md", tmp_path / "panels.png"
     assert main(["experiment3d", path, "-o", str(table), "--panels", str(panels)]) == 0
     assert "sliding" in table.read_text() and panels.stat().st_size > 0
+
+
+def test_the_experiment_panels_of_a_quasi_static_a_lambda_and_a_vanished_case(di_sphere):
+    """The panels draw a case without a stage speed against the stage travel, the lambda checks when they are all,
+    two cases of one area with their names, and no Ft / A once the contact is gone."""
     from capslide.figures.experiment_3d import fig_experiment3d_panels
+    from capslide.studies.experiment_3d import features, window
+
+    _, _, ds = di_sphere
+    c = features(ds.encoding["source"])
 
     fig = fig_experiment3d_panels([c])  # quasi-static: drawn against the stage travel, not against no time
     for ax in fig.axes:
@@ -248,8 +257,6 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert fig.axes[0].get_xlabel() == r"$\bar u$ ($\mu$m)"
     fig = fig_experiment3d_panels([{**c, "case": "A0.270_lambda3"}])  # a lambda check alone is drawn, not left out
     assert all(ax.lines for ax in fig.axes)
-    from capslide.studies.experiment_3d import window
-
     last = window(c)[-1]  # the last step drawn: its contact gone
     gone = {**c, "case": "gone", "area": np.where(np.arange(len(c["area"])) == last, 0.0, c["area"])}
     with warnings.catch_warnings():
@@ -259,6 +266,15 @@ def test_the_experiment_table_reads_a_sliding_sphere(di_sphere, tmp_path):
     assert len(set(labels)) == 2 and labels[0].endswith(", gone"), labels
     stress = fig.axes[3].lines[0].get_ydata()
     assert np.isnan(stress[-1]) and np.isfinite(stress[:-1]).all()  # Ft / A: none without contact
+
+
+def test_the_experiment_and_cap_figures_refuse_a_case_they_would_misread(di_sphere, tmp_path):
+    """One line, exit 2, nothing written: the outlines of a case without a stage speed or without snapshots,
+    sphere_Aczoom without snapshots, and the 2D cap's figures of a 3D case."""
+    from capslide.cli import main
+
+    _, _, ds = di_sphere
+    path = ds.encoding["source"]
     table2, outlines = tmp_path / "table2.md", tmp_path / "outlines.png"  # quasi-static: no times for the outlines
     assert main(["experiment3d", path, "-o", str(table2), "--outlines", str(outlines)]) == 2
     assert not table2.exists() and not outlines.exists()
