@@ -26,7 +26,7 @@ from .config import flatten
 from .config import load_config as _load_config
 from .driver.case import run_case
 from .io.cube import collect as _collect
-from .io.reading import open_result
+from .io.reading import open_result, scale_and_unit
 from .io.results import case_dataset
 from .params import Parameters
 from .states import Phase
@@ -116,23 +116,13 @@ def slide(ds: xr.Dataset) -> xr.Dataset:
     return steps.swap_dims(step="ubar")
 
 
-def _scale_and_unit(units: str) -> tuple[float, str] | None:
-    """(scale, SI unit) of a units attribute '<scale> <unit>' ('2 N/m', '1e-06 m'); None for '1' or no number."""
-    head, _, tail = str(units).partition(" ")
-    try:
-        scale = float(head)
-    except ValueError:
-        return None
-    return (scale, tail.strip()) if tail.strip() else None
-
-
 def to_si(ds: xr.Dataset) -> xr.Dataset:
     """``ds`` with every variable whose ``units`` is '<scale> <SI unit>' (capslide stores normalized values: Ft in
     units of '2 N/m' for the paper's E and L0) multiplied by its scale and its ``units`` set to the SI unit, which
     UDUNITS and pint both read: ``capslide.to_si(case).pint.quantify()`` (pint-xarray) gives pint quantities."""
     out = ds.copy()
     for name in [*ds.data_vars, *ds.coords]:
-        parsed = _scale_and_unit(ds[name].attrs.get("units", ""))
+        parsed = scale_and_unit(ds[name].attrs.get("units", ""))
         if parsed is None or ds[name].dtype.kind not in "fiu":
             continue
         scale, unit = parsed

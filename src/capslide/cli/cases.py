@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..driver.observers import AfterSteps
-from ..io.reading import kind_of, open_result
+from ..io.reading import kind_of, open_result, scale_and_unit
 from .common import EXIT_STATUS, InputError, check_outputs, command_line, config_sources, parameters
 from .progress import ProgressDisplay
 
@@ -261,11 +261,8 @@ def _inspect_cases(ds) -> None:
 def _scalar_text(value: float, attrs) -> str:
     """A case scalar, its long name and, where its units carry a scale ("1.6e-06 N": E L0^2), its value in SI."""
     text = f"{value:.6g}  ({attrs.get('long_name', '')})"
-    scale, _, unit = str(attrs.get("units", "")).partition(" ")
-    try:
-        return f"{text}  = {value * float(scale):.6g} {unit}" if unit and np.isfinite(value) else text
-    except ValueError:  # units without a leading scale
-        return text
+    parsed = scale_and_unit(attrs.get("units", ""))
+    return f"{text}  = {value * parsed[0]:.6g} {parsed[1]}" if parsed and np.isfinite(value) else text
 
 
 def cmd_inspect(args) -> int:

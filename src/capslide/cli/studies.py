@@ -251,17 +251,17 @@ def cmd_experiment3d(args) -> int:
     panels = check_outputs(args.panels or [], {"pdf", "png"})
     outlines = check_outputs(args.outlines or [], {"pdf", "png"})
     cases = read_cases(args.files)
-    shown = None
+    snapshots = None
     if outlines:  # the experiment's snapshots are of A0 = 0.27 mm^2 (its figure 4), at times in s
         main = [c for c in cases if "_lambda" not in c["case"]] or cases
         shown = min(main, key=lambda c: abs(c["A0"] - 0.27))
         if not shown["v"]:
             raise InputError(f"--outlines: '{shown['path']}' has loading.velocity = null: the experiment's snapshot "
                              "times (s) need a stage speed")
-        with open_result(Path(shown["path"]), "case") as case:
-            if case.sizes.get("snapshot_ubar", 0) == 0:
-                raise InputError(f"--outlines: '{shown['path']}' holds no field snapshots (output.snapshot_ubar: the "
-                                 "experiment's times)")
+        snapshots = open_result(Path(shown["path"]), "case")  # in memory: drawn below, once the tables are written
+        if snapshots.sizes.get("snapshot_ubar", 0) == 0:
+            raise InputError(f"--outlines: '{shown['path']}' holds no field snapshots (output.snapshot_ubar: the "
+                             "experiment's times)")
     rows = [{k: c[k] for k in TABLE_COLUMNS} for c in cases]
     for out in outputs:
         write_text_atomic(out, markdown_table(rows, TABLE_COLUMNS) if out.suffix == ".md" else csv_text(rows, TABLE_COLUMNS))
@@ -273,8 +273,7 @@ def cmd_experiment3d(args) -> int:
             if panels:
                 figures.save(fig_experiment3d_panels(cases), panels)
             if outlines:
-                with open_result(Path(shown["path"]), "case") as case:
-                    figures.save(fig_experiment3d_outlines(case), outlines)
+                figures.save(fig_experiment3d_outlines(snapshots), outlines)
     for r in rows:
         print(f"{r['case']:16s} {r['status']:9s} A0 {r['A0']:.4f} mm2, Fn0 {r['Fn0']:+.3f} mN, peak Ft {r['peak_Ft']:.4g} mN "
               f"at {r['travel_to_peak']:.4g} um (step {r['step_to_peak']:.3g}), Ft/A {r['Ft_over_A_at_peak']:.4g} MPa, "

@@ -14,7 +14,8 @@ import yaml
 from ..config import validate
 from ..fem.mesh import Mesh
 
-__all__ = ["ResultFileError", "KINDS", "kind_of", "open_result", "config_of", "mesh_from_dataset", "read_mesh"]
+__all__ = ["ResultFileError", "KINDS", "kind_of", "open_result", "config_of", "mesh_from_dataset", "read_mesh",
+           "scale_and_unit"]
 
 KINDS = {"case": "a case file (capslide run)", "cases": "a collected file (capslide collect)",
          "mesh": "a mesh file (capslide mesh)"}
@@ -69,3 +70,13 @@ def mesh_from_dataset(ds: xr.Dataset) -> Mesh:
 def read_mesh(path: str | Path) -> Mesh:
     """The mesh stored in a mesh file (``capslide mesh``)."""
     return mesh_from_dataset(open_result(path, "mesh"))
+
+
+def scale_and_unit(units: str) -> tuple[float, str] | None:
+    """(scale, SI unit) of a units attribute '<scale> <unit>' ('2 N/m', '1e-06 m'); None for '1' or no number."""
+    head, _, tail = str(units).partition(" ")
+    try:
+        scale = float(head)
+    except ValueError:
+        return None
+    return (scale, tail.strip()) if tail.strip() else None
