@@ -156,3 +156,50 @@ def test_a_preload_to_an_area_goes_on_from_the_zero_load_state(tmp_path, capsys)
     for ds in (a, b):  # both land on the area, at one force (the equilibrium at an area is the path's end)
         assert abs(float(ds.area[-1]) - 20.0) <= 1e-3 * 20.0
     assert float(a.Fn[-1]) == pytest.approx(float(b.Fn[-1]), rel=0.01)
+
+
+def _params(scene: str, *overrides: str) -> Parameters:
+    from capslide.config import load_config
+
+    return Parameters.from_config(load_config([scene], list(overrides)))
+
+
+def test_the_pull_off_area_bound_is_jkrs_at_a_large_maugis_parameter():
+    """At lambda = 20 the Maugis-Dugdale sphere is JKR's: pull-off under load control at A^3 - sqrt(6 A^3) = -3/2,
+    A = 1.5^(1/3) (Johnson and Greenwood's variables); lambda = 2 pulls off at a smaller contact."""
+    from capslide.laws import analytic, sphere
+    from capslide.model.reach import md_pull_off_area
+
+    p = _params("experiment", "adhesion.maugis_lambda=20.0")
+    E_star = analytic.effective_modulus(p.material.E, p.material.nu)
+    jkr = np.pi * (1.5 ** (1.0 / 3.0) * sphere.md_scales(p.geometry.R, E_star, p.adhesion.W_adh)["radius"]) ** 2
+    assert md_pull_off_area(p) == pytest.approx(jkr, rel=0.02)
+    assert md_pull_off_area(_params("experiment")) < 0.9 * jkr
+
+
+@pytest.mark.parametrize(("scene", "area", "words"), [
+    ("experiment", "0.27", "below half of the Maugis-Dugdale sphere's pull-off area (67020.7 L0^2)"),  # mm^2 for um^2
+    ("sphere", "270000.0", "beyond the cap's top surface 2 pi R H = 2959.38 L0^2"),  # the experiment's area
+    ("cap", "200.0", "beyond the cap's top arc = 62.5255 L0"),
+])
+def test_an_area_no_preload_reaches_is_refused_before_anything_is_written(tmp_path, capsys, scene, area, words):
+    from capslide.cli import main
+
+    out = tmp_path / "case.nc"
+    assert main(["run", "--scene", scene, "--set", f"loading.preload_area={area}", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"loading.preload_area = {float(area)!r} is not allowed here: " in err and words in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_area_between_the_bounds_passes_the_preflight():
+    from capslide.model.reach import check_preload_area, preload_area_bounds
+
+    for scene, area in (("experiment", 100000.0), ("experiment", 460000.0), ("cap", 20.0), ("sphere", 150.0)):
+        p = _params(scene, f"loading.preload_area={area}")
+        lo, hi = preload_area_bounds(p)
+        assert lo < area < hi
+        check_preload_area(p)
+    p = _params("sphere", "contact.repulsion_only=true", "loading.preload=-1.0")
+    assert preload_area_bounds(p)[0] == 0.0  # no adhesion, no pull-off

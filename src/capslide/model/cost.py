@@ -15,6 +15,7 @@ from ..fem.hex_mesh import SphereCapSpec, sphere_cap_counts
 from ..fem.mesh import BandTooWide, CapMeshSpec, band_limit, cell_and_node_counts
 from ..params import Parameters
 from ..solvers.pardiso import mkl_runtime
+from .reach import check_preload_area
 
 __all__ = ["Cost", "estimate", "check", "check_steps", "check_factorization", "MEMORY_BASE_GB", "MEMORY_PER_DOF"]
 
@@ -88,7 +89,8 @@ def _band_error(p: Parameters, spec: CapMeshSpec | SphereCapSpec, why: str) -> C
 
 
 def check(p: Parameters, spec: CapMeshSpec | SphereCapSpec, steps: bool = True) -> Cost:
-    """The estimate, or ConfigError (one line: the estimate and the key to raise) when it exceeds ``limits``.
+    """The estimate, or ConfigError (one line: the estimate and the key to raise) when it exceeds ``limits``, or when
+    ``loading.preload_area`` lies beyond what a preload can reach (:func:`capslide.model.reach.check_preload_area`).
 
     ``steps=False`` checks the mesh alone (``capslide mesh``)."""
     limits = p.limits
@@ -105,6 +107,7 @@ def check(p: Parameters, spec: CapMeshSpec | SphereCapSpec, steps: bool = True) 
     if steps:
         check_steps(p)
         check_factorization(p)
+        check_preload_area(p)
     return cost
 
 
