@@ -291,6 +291,26 @@ def test_the_experiment_and_cap_figures_refuse_a_case_they_would_misread(di_sphe
     assert not (tmp_path / "cap_xn.png").exists() and not (tmp_path / "cap_Aczoom.png").exists()
 
 
+def test_the_sphere_figures_ask_only_for_what_they_draw(di_sphere, tmp_path, capsys):
+    """A 3D case written without surface profiles (output.surface_profiles = false, as studies write them) keeps its
+    outlines and per-step areas: sphere_Aczoom and sphere_Pa draw it, sphere_Tn names the key it needs."""
+    from capslide.cli import main
+
+    _, _, ds = di_sphere
+    lean = tmp_path / "lean.nc"
+    profiles = [name for name in ds.data_vars if "surface_point" in ds[name].dims]
+    assert "traction_n" in profiles and "outline_x" not in profiles
+    ds.load().drop_vars(profiles).to_netcdf(lean)
+    for name in ("sphere_Aczoom", "sphere_Pa"):
+        assert main(["figure", name, "--input", str(lean), "-o", str(tmp_path / f"{name}.png")]) == 0
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+    capsys.readouterr()
+    assert main(["figure", "sphere_Tn", "--input", str(lean), "-o", str(tmp_path / "tn.png")]) == 2
+    err = capsys.readouterr().err
+    assert "holds no 'traction_n' (figure 'sphere_Tn' needs output.surface_profiles = true)" in err
+    assert err.count("\n") == 1 and not (tmp_path / "tn.png").exists()
+
+
 REGROWN = ("slide: the contact came off at ubar = 35.76 (its area fell to 25300; the next equilibrium found "
            "re-adheres at 114600)")  # the regrowth rule's reason, as an experiment case file keeps it
 

@@ -16,6 +16,12 @@ FIGURE_HELP = ("render a figure: model figures (Tn, modelCA, modelAM, TnTt, exp_
                "case, verification from --table FILE.csv")
 
 
+# what each 3D case figure reads from the case file, and the key that writes it
+_SPHERE_FIGURE_NEEDS = {"sphere_Tn": ("traction_n", "output.surface_profiles = true"),
+                        "sphere_Pa": ("area", "the per-step contact area of a case"),
+                        "sphere_Aczoom": ("outline_x", "the contact outlines of output.snapshot_ubar")}
+
+
 def _tau_DI(cases) -> float | None:
     """tau_DI / E of the DI model of a collected file (mu_DI T_max / E), None without a DI model."""
     if "friction_model" not in cases.coords or "DI" not in set(map(str, cases["friction_model"].values)):
@@ -65,12 +71,14 @@ def cmd_figure(args) -> int:
         if not args.input:
             raise InputError(f"figure '{args.name}' needs --input CASE.nc (a 3D case from capslide run)")
         case = open_result(args.input, "case")
-        if "Z_node" not in case.coords or "traction_n" not in case:
-            raise InputError(f"'{args.input}' is not a 3D case with surface profiles (figure '{args.name}' needs "
-                             "mesh.element = H1 or H2 and output.surface_profiles)")
+        if "Z_node" not in case.coords:
+            raise InputError(f"'{args.input}' is not a 3D case (figure '{args.name}' needs mesh.element = H1 or H2)")
         if args.name == "sphere_Aczoom" and case.sizes.get("snapshot_ubar", 0) == 0:
             raise InputError(f"'{args.input}' holds no field snapshots (figure 'sphere_Aczoom' draws the contact at "
                              "each: output.snapshot_ubar)")
+        variable, key = _SPHERE_FIGURE_NEEDS[args.name]
+        if variable not in case:
+            raise InputError(f"'{args.input}' holds no '{variable}' (figure '{args.name}' needs {key})")
         params = Parameters.from_config(config_of(args.input))
         draw = lambda: figures.SPHERE_FIGURES[args.name](case, params)  # noqa: E731
     elif args.name in figures.TABLE_FIGURES:
