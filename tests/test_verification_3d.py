@@ -125,6 +125,20 @@ def test_max_layer_aspect_adds_layers_to_the_3d_mesh_only():
         load_config(["cap"], ["mesh.max_layer_aspect=4"])
 
 
+def test_the_sphere_scenes_presets_choose_the_element():
+    """The study's presets keep the trilinear hexahedra; annulus_h2 is the mesh of the 10-minute goal (H2 with rings
+    of 0.2475 L0 across the contact line, 89,079 DOF: docs/three_d.md, cost of the sphere scene)."""
+    from capslide.model import cost
+    from capslide.model.build import mesh_spec
+
+    for preset, element, dofs in (("coarse", "H1", 14_400), ("fast", "H1", 36_450), ("annulus_h2", "H2", 89_079)):
+        p = Parameters.from_config(load_config(["sphere"], [f"preset={preset}", "loading.ubar_max=0"]))
+        assert p.mesh.element == element
+        assert cost.estimate(p, mesh_spec(p)).dofs == dofs
+    p = Parameters.from_config(load_config(["sphere"], ["preset=annulus_h2"]))
+    assert (p.solver.linear, p.solver.factorization, p.mesh.line_band) == ("lu_krylov", "pardiso", (4.5, 7.5))
+
+
 def test_maugis_lambda_sets_t_max():
     cfg = load_config(["sphere"])
     del cfg["adhesion"]["T_max"]
