@@ -1,9 +1,11 @@
 """pyamg smoothed aggregation as the preconditioner of CG or BiCGStab, made robust on the graded cap meshes.
 
 The solver keeps its hierarchy (built with the rigid-body modes as near-null
-space) across calls and rebuilds it when the Krylov iteration count has grown
-past ``rebuild_factor`` times the count right after the last rebuild, when a
+space) across calls and rebuilds it once the Krylov iterations spent beyond
+the fewest a fresh hierarchy has needed add up to what a setup costs (the
+setup's time in iterations, measured: :data:`SETUP_COST_ITERATIONS`), when a
 solve fails even after one restart from its iterate, or when asked to.
+Counted in iterations, not seconds: runs stay deterministic.
 
 On the graded cap meshes pyamg's default smoothed aggregation needed 54 CG
 iterations at 12k DOF and 474 at 577k (issue 3). The slow modes live in the
@@ -35,7 +37,7 @@ import scipy.sparse.linalg as spla
 
 from .solve_info import LinearSolveError, SolveInfo, true_residual
 
-__all__ = ["AMGSolver", "CYCLE", "SETTINGS", "PYAMG_DEFAULTS"]
+__all__ = ["AMGSolver", "CYCLE", "SETTINGS", "PYAMG_DEFAULTS", "SETUP_COST_ITERATIONS", "setup_cost_iterations"]
 
 # measured on the graded cap meshes, Q1 and Q2, 12k to 2.1M DOF (benchmarks/amg_scaling.py)
 SETTINGS = {"strength": ("evolution", {"k": 4}), "smooth": "energy", "max_coarse": 2000, "coarse_solver": "splu"}
@@ -50,6 +52,18 @@ CYCLE = "W"
 # against 16 at 82k DOF, 59 against 31 at 842k) and less time for one setup and solve (2.6 s against 5.4 s at 82k,
 # 53 s against 101 s at 842k), but more in the load path, where the hierarchy is reused: the sphere scene's coarse
 # case took 188 s with them against 165 s (14k DOF; docs/three_d.md)
+
+
+# A setup's time over the time of one CG iteration per right-hand side: 42, 25, 69 and 86 at 17k, 82k, 369k and
+# 842k DOF (the sphere's H1 meshes, capslide's options; benchmarks/amg_sphere.py, the table in docs/three_d.md),
+# interpolated in log DOF and held beyond the ends
+SETUP_COST_ITERATIONS = ((17_352, 42.0), (81_873, 25.0), (369_390, 69.0), (841_860, 86.0))
+
+
+def setup_cost_iterations(n_dofs: int) -> float:
+    """What a hierarchy's setup costs in Krylov iterations per right-hand side at ``n_dofs`` DOF."""
+    dofs, cost = zip(*SETUP_COST_ITERATIONS)
+    return float(np.interp(np.log(n_dofs), np.log(dofs), cost))
 
 
 @contextmanager
@@ -82,17 +96,19 @@ class AMGSolver:
     cycle: str = CYCLE
     rtol: float = 1e-8
     maxiter: int = 500
-    rebuild_factor: float = 2.0
+    setup_cost: float | None = None  # iterations per right-hand side; None: setup_cost_iterations(DOF)
     symmetric: bool | None = None
     block_size: int = 2
     _ml: object = field(default=None, init=False, repr=False)
     _exact_lu: object = field(default=None, init=False, repr=False)
-    _base_iterations: float | None = field(default=None, init=False, repr=False)
+    _fewest_iterations: float | None = field(default=None, init=False, repr=False)  # a fresh hierarchy's, per RHS
+    _excess_iterations: float = field(default=0.0, init=False, repr=False)  # beyond those, since the last setup
     stats: dict = field(default_factory=lambda: {"setups": 0, "solves": 0, "iterations": 0}, init=False)
 
     def invalidate(self) -> None:
-        """Force a rebuild at the next solve (for example after a mesh change)."""
-        self._ml = None
+        """Force a rebuild at the next solve (for example after a mesh change), and forget the iterations seen: the
+        solver then decides as a new one would (a resumed run repeats the same arithmetic)."""
+        self._ml, self._fewest_iterations = None, None
 
     def setup(self, A) -> float:
         t = time.perf_counter()
@@ -102,7 +118,7 @@ class AMGSolver:
             self._ml = pyamg.smoothed_aggregation_solver(Ab, **self.options, **kwargs)
         d = self.exact_dofs
         self._exact_lu = spla.splu(A[d][:, d].tocsc()) if d is not None and len(d) else None
-        self._base_iterations = None
+        self._excess_iterations = 0.0
         self.stats["setups"] += 1
         return time.perf_counter() - t
 
@@ -155,10 +171,11 @@ class AMGSolver:
         # attempt 0 starts from zero; attempt 1 restarts the Krylov method from the
         # current iterate (BiCGStab's recursive residual can drift from the true
         # one); attempt 2 also rebuilds the hierarchy, unless it is fresh already
+        fresh = info.rebuilt  # the hierarchy of this solve's last attempt is new
         for attempt in range(3):
             if attempt == 2 and not info.rebuilt:
                 info.setup_time += self.setup(A)
-                info.rebuilt = True
+                info.rebuilt = fresh = True
             M = self._preconditioner(A)
             t = time.perf_counter()
             iters, failed = 0, False
@@ -169,8 +186,6 @@ class AMGSolver:
             info.solve_time += time.perf_counter() - t
             info.iterations += iters
             info.true_residual = true_residual(A, X, B2)
-            if attempt == 0:
-                per_rhs = iters / B2.shape[1]
             if not failed and info.true_residual <= 10 * self.rtol:
                 break
         else:
@@ -178,8 +193,19 @@ class AMGSolver:
                                    f"after {info.iterations} iterations")
         self.stats["solves"] += 1
         self.stats["iterations"] += info.iterations
-        if self._base_iterations is None:
-            self._base_iterations = max(per_rhs, 1.0)
-        elif per_rhs > self.rebuild_factor * self._base_iterations:
-            self._ml = None  # rebuild rule: iterations grew; rebuild at the next solve
+        self._account(iters / B2.shape[1], info.iterations / B2.shape[1], fresh, A.shape[0])
         return X.reshape(B.shape), info
+
+    def _account(self, last_attempt: float, spent: float, fresh: bool, n_dofs: int) -> None:
+        """The rebuild rule, per right-hand side: a fresh hierarchy's count of its solve lowers the fewest seen;
+        the iterations spent beyond the fewest (``last_attempt`` of a fresh hierarchy, else all ``spent``)
+        accumulate, and once they reach a setup's cost the hierarchy is rebuilt at the next solve. A hierarchy built
+        on a hard matrix (a Newton iterate far from equilibrium) that serves the next matrices poorly is so
+        replaced within a few solves."""
+        if fresh and (self._fewest_iterations is None or last_attempt < self._fewest_iterations):
+            self._fewest_iterations = max(last_attempt, 1.0)
+        mine = last_attempt if fresh else spent  # a rebuilt solve's failed attempts were the old hierarchy's
+        self._excess_iterations += max(mine - self._fewest_iterations, 0.0)
+        cost = self.setup_cost if self.setup_cost is not None else setup_cost_iterations(n_dofs)
+        if self._excess_iterations >= cost:
+            self._ml = None
