@@ -102,14 +102,14 @@ def test_a_hierarchy_built_on_a_hard_matrix_is_replaced():
     90 CG iterations a solve for the rest of its path when the failed attempt set it)."""
     solver = AMGSolver(setup_cost=40.0)
     solver._ml = object()  # a hierarchy, as setup() leaves it
-    solver._account(11.0, 11.0, fresh=True, n_dofs=14_400)
+    solver._account(11.0, fresh=True, n_dofs=14_400)
     assert solver._ml is not None and solver._excess_iterations == 0.0
-    solver._account(56.0, 1056.0, fresh=True, n_dofs=14_400)  # failed twice on the old hierarchy, then rebuilt
+    solver._account(56.0, fresh=True, n_dofs=14_400)  # 500 + 500 on the old hierarchy, then 56 on a rebuilt one
     assert solver._fewest_iterations == 11.0 and solver._excess_iterations == 45.0 and solver._ml is None
     solver._ml, solver._excess_iterations = object(), 0.0  # as setup() leaves it
-    solver._account(30.0, 30.0, fresh=False, n_dofs=14_400)
+    solver._account(30.0, fresh=False, n_dofs=14_400)
     assert solver._ml is not None and solver._excess_iterations == 19.0
-    solver._account(40.0, 40.0, fresh=False, n_dofs=14_400)
+    solver._account(40.0, fresh=False, n_dofs=14_400)
     assert solver._ml is None  # 19 + 29 >= 40
 
 

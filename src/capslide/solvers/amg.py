@@ -56,7 +56,7 @@ CYCLE = "W"
 
 # A setup's time over the time of one CG iteration per right-hand side: 42, 25, 69 and 86 at 17k, 82k, 369k and
 # 842k DOF (the sphere's H1 meshes, capslide's options; benchmarks/amg_sphere.py, the table in docs/three_d.md),
-# interpolated in log DOF and held beyond the ends
+# interpolated in log DOF and held beyond the ends (2D, where AMG runs above 2M DOF, takes the same)
 SETUP_COST_ITERATIONS = ((17_352, 42.0), (81_873, 25.0), (369_390, 69.0), (841_860, 86.0))
 
 
@@ -171,11 +171,11 @@ class AMGSolver:
         # attempt 0 starts from zero; attempt 1 restarts the Krylov method from the
         # current iterate (BiCGStab's recursive residual can drift from the true
         # one); attempt 2 also rebuilds the hierarchy, unless it is fresh already
-        fresh = info.rebuilt  # the hierarchy of this solve's last attempt is new
+        since_setup = 0  # iterations on this solve's current hierarchy
         for attempt in range(3):
             if attempt == 2 and not info.rebuilt:
                 info.setup_time += self.setup(A)
-                info.rebuilt = fresh = True
+                info.rebuilt, since_setup = True, 0
             M = self._preconditioner(A)
             t = time.perf_counter()
             iters, failed = 0, False
@@ -185,6 +185,7 @@ class AMGSolver:
                 failed |= code != 0
             info.solve_time += time.perf_counter() - t
             info.iterations += iters
+            since_setup += iters
             info.true_residual = true_residual(A, X, B2)
             if not failed and info.true_residual <= 10 * self.rtol:
                 break
@@ -193,19 +194,18 @@ class AMGSolver:
                                    f"after {info.iterations} iterations")
         self.stats["solves"] += 1
         self.stats["iterations"] += info.iterations
-        self._account(iters / B2.shape[1], info.iterations / B2.shape[1], fresh, A.shape[0])
+        self._account(since_setup / B2.shape[1], info.rebuilt, A.shape[0])
         return X.reshape(B.shape), info
 
-    def _account(self, last_attempt: float, spent: float, fresh: bool, n_dofs: int) -> None:
-        """The rebuild rule, per right-hand side: a fresh hierarchy's count of its solve lowers the fewest seen;
-        the iterations spent beyond the fewest (``last_attempt`` of a fresh hierarchy, else all ``spent``)
-        accumulate, and once they reach a setup's cost the hierarchy is rebuilt at the next solve. A hierarchy built
-        on a hard matrix (a Newton iterate far from equilibrium) that serves the next matrices poorly is so
-        replaced within a few solves."""
-        if fresh and (self._fewest_iterations is None or last_attempt < self._fewest_iterations):
-            self._fewest_iterations = max(last_attempt, 1.0)
-        mine = last_attempt if fresh else spent  # a rebuilt solve's failed attempts were the old hierarchy's
-        self._excess_iterations += max(mine - self._fewest_iterations, 0.0)
+    def _account(self, iterations: float, fresh: bool, n_dofs: int) -> None:
+        """The rebuild rule, per right-hand side, from a solve's ``iterations`` on its last hierarchy (a solve that
+        rebuilt after failed attempts counts only those after the rebuild): a fresh hierarchy's count lowers the
+        fewest seen; the iterations beyond the fewest accumulate, and once they reach a setup's cost the hierarchy
+        is rebuilt at the next solve. A hierarchy built on a hard matrix (a Newton iterate far from equilibrium)
+        that serves the next matrices poorly is so replaced within a few solves."""
+        if fresh and (self._fewest_iterations is None or iterations < self._fewest_iterations):
+            self._fewest_iterations = max(iterations, 1.0)
+        self._excess_iterations += max(iterations - self._fewest_iterations, 0.0)
         cost = self.setup_cost if self.setup_cost is not None else setup_cost_iterations(n_dofs)
         if self._excess_iterations >= cost:
             self._ml = None
