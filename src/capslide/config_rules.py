@@ -8,7 +8,7 @@ from collections.abc import Mapping
 
 from .config import SPHERE_ELEMENTS, ConfigError
 
-__all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_maugis_lambda"]
+__all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_maugis_lambda", "top_surface"]
 
 
 # Largest Poisson's ratio at which each displacement element is free of volumetric locking, measured with
@@ -139,6 +139,15 @@ def _check_no_op_keys(config: Mapping) -> None:
                           "time at rest, and a quasi-static path has no time (give the stage's speed, m/s)")
 
 
+def top_surface(config: Mapping) -> float:
+    """The cap's top surface: its arc's length 2 R asin(sqrt(R^2 - (R - H)^2) / R) in 2D (L0), the sphere's cap
+    area 2 pi R H in 3D (L0^2)."""
+    R, H = config["geometry"]["R"], config["geometry"]["H"]
+    if config["mesh"]["element"] in SPHERE_ELEMENTS:
+        return 2.0 * math.pi * R * H
+    return 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
+
+
 def check_consistency(config: Mapping) -> None:
     """Cross-key rules the schema cannot express."""
     _check_locking(config)
@@ -165,11 +174,7 @@ def check_consistency(config: Mapping) -> None:
             f"(g_cut_DI_over_g_max > {g_reg / g_reg_limit:.5f})"
         )
     # no equilibrium can hold a tensile force above T_max times the whole top surface (a strict bound)
-    R, H = geo["R"], geo["H"]
-    arc = 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
-    if config["mesh"]["element"] in SPHERE_ELEMENTS:  # the sphere: the cap's area 2 pi R H (force in E L0^2)
-        arc = 2.0 * math.pi * R * H
-    bound = config["adhesion"]["T_max"] / config["material"]["E"] * arc
+    bound = config["adhesion"]["T_max"] / config["material"]["E"] * top_surface(config)
     preload = config["loading"]["preload"]
     if not config["contact"]["repulsion_only"] and preload > bound:
         raise ConfigError(

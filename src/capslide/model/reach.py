@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from ..config import SPHERE_ELEMENTS, ConfigError
+from ..config_rules import top_surface
 from ..laws import analytic, sphere
 from ..params import Parameters
 
@@ -31,20 +32,12 @@ def md_pull_off_area(params: Parameters) -> float:
     return math.pi * (A * sphere.md_scales(R, E_star, adh.W_adh)["radius"]) ** 2
 
 
-def top_surface(params: Parameters) -> float:
-    """The cap's top surface: 2 pi R H in 3D (L0^2), the arc's length 2 R asin(sqrt(R^2 - (R - H)^2) / R) in 2D (L0)."""
-    R, H = params.geometry.R, params.geometry.H
-    if params.mesh.element in SPHERE_ELEMENTS:
-        return 2.0 * math.pi * R * H
-    return 2.0 * R * math.asin(math.sqrt(max(R * R - (R - H) ** 2, 0.0)) / R)
-
-
 def preload_area_bounds(params: Parameters) -> tuple[float, float]:
     """(smallest, largest) area a preload to an area can hold, in the units of ``loading.preload_area``; the
     smallest is 0 without adhesion, and in 2D."""
     three_d = params.mesh.element in SPHERE_ELEMENTS
     smallest = SURE_BELOW_PULL_OFF * md_pull_off_area(params) if three_d and not params.contact.repulsion_only else 0.0
-    return smallest, top_surface(params)
+    return smallest, top_surface(params.config)
 
 
 def check_preload_area(params: Parameters) -> None:
