@@ -105,22 +105,23 @@ def test_the_sphere_figures_draw_from_the_file(sphere_case, tmp_path):
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000
 
 
+def _worst_aspect(mesh) -> float:
+    """The largest longest-over-shortest edge of the hexahedra's 12 edges."""
+    X = mesh.nodes[mesh.cells]
+    edges = np.linalg.norm(X[:, [1, 2, 3, 0, 5, 6, 7, 4, 4, 5, 6, 7]] - X[:, [0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3]], axis=2)
+    return float((edges.max(axis=1) / edges.min(axis=1)).max())
+
+
 def test_max_layer_aspect_adds_layers_to_the_3d_mesh_only():
     from capslide.model.build import mesh_spec
 
     capped = Parameters.from_config(load_config(["sphere"], ["mesh.size=100", "mesh.max_layer_aspect=4"]))
-    plain = Parameters.from_config(load_config(["sphere"], ["mesh.size=100"]))
+    plain = Parameters.from_config(load_config(["sphere"], ["mesh.size=100", "mesh.max_layer_aspect=null"]))
     spec = mesh_spec(capped)
     assert spec.max_layer_aspect == 4.0 and mesh_spec(plain).max_layer_aspect is None
     mesh, plain_mesh = sphere_cap_mesh(spec), sphere_cap_mesh(mesh_spec(plain))
     assert mesh.info["layers"] > plain_mesh.info["layers"]
-
-    def worst_aspect(m):
-        X = m.nodes[m.cells]
-        edges = np.linalg.norm(X[:, [1, 2, 3, 0, 5, 6, 7, 4, 4, 5, 6, 7]] - X[:, [0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3]], axis=2)
-        return float((edges.max(axis=1) / edges.min(axis=1)).max())
-
-    assert worst_aspect(mesh) < worst_aspect(plain_mesh)
+    assert _worst_aspect(mesh) < _worst_aspect(plain_mesh)
     with pytest.raises(ConfigError, match="mesh.max_layer_aspect = 4 is not allowed with mesh.element = Q"):
         load_config(["cap"], ["mesh.max_layer_aspect=4"])
 
@@ -131,12 +132,24 @@ def test_the_sphere_scenes_presets_choose_the_element():
     from capslide.model import cost
     from capslide.model.build import mesh_spec
 
-    for preset, element, dofs in (("coarse", "H1", 14_400), ("fast", "H1", 36_450), ("annulus_h2", "H2", 89_079)):
+    for preset, element, dofs in (("coarse", "H1", 14_400), ("fast", "H1", 40_500), ("annulus_h2", "H2", 89_079)):
         p = Parameters.from_config(load_config(["sphere"], [f"preset={preset}", "loading.ubar_max=0"]))
         assert p.mesh.element == element
         assert cost.estimate(p, mesh_spec(p)).dofs == dofs
     p = Parameters.from_config(load_config(["sphere"], ["preset=annulus_h2"]))
     assert (p.solver.linear, p.solver.factorization, p.mesh.line_band) == ("lu_krylov", "pardiso", (4.5, 7.5))
+
+
+def test_the_sphere_scenes_amg_presets_keep_the_cells_aspect_ratio_below_8():
+    """pyamg's iterations follow the cells' aspect ratio (docs/three_d.md, pyamg as the engine): the presets that
+    it solves mesh with layers of at most 4 h0 under the band (mesh.max_layer_aspect), which keeps every cell's
+    longest over shortest edge below 8 (the `fine` preset without it: 9.6)."""
+    from capslide.model.build import mesh_spec
+
+    for preset in ("coarse", "fast", "fine"):
+        p = Parameters.from_config(load_config(["sphere"], [f"preset={preset}"]))
+        assert p.solver.linear == "auto" and p.mesh.max_layer_aspect == 4.0
+        assert _worst_aspect(sphere_cap_mesh(mesh_spec(p))) < 8.0, preset
 
 
 def test_maugis_lambda_sets_t_max():
