@@ -2,6 +2,7 @@
 #   make reproduce   set up .venv and run the full Snakemake reproduction
 #   make test        set up .venv and run the default test suite
 #   make convergence set up .venv and run the speed-against-error study (results/paper/studies/convergence/)
+#   make sphere      set up .venv with MKL and run the paper's study on the sphere (results/paper/sphere/)
 #   make experiment3d set up .venv with MKL and run the experiment in numbers (results/paper/experiment3d/)
 #   make verification3d set up .venv with MKL and run the 3D sphere against Hertz and Maugis-Dugdale (hours)
 #   make test-slurm  the smoke workflow through a local single-node SLURM (root)
@@ -15,7 +16,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: setup setup-pardiso reproduce convergence experiment3d verification3d test test-all test-slurm lock clean
+.PHONY: setup setup-pardiso reproduce convergence sphere experiment3d verification3d test test-all test-slurm lock clean
 
 setup: $(VENV)/.installed
 
@@ -34,6 +35,10 @@ reproduce: setup
 
 convergence: setup
 	$(BIN)/snakemake --cores $(CORES) convergence
+
+# The sphere study solves with PARDISO's factors (workflow/rules/sphere.smk), so this target sets MKL up first.
+sphere: setup-pardiso
+	$(BIN)/snakemake --cores $(CORES) sphere
 
 # The experiment scene solves with PARDISO's factors (docs/experiment3d.md), so this target sets MKL up first.
 experiment3d: setup-pardiso

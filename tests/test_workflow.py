@@ -56,6 +56,16 @@ def test_the_normal_states_form_one_chain(workdir):
                                                               "+0.144": "-0.288", "+0.288": "-0.288"}
 
 
+def test_the_sphere_study_solves_every_job_with_pardisos_factors(workdir):
+    """`snakemake sphere`: its 3 normal states and 9 slides all run with the study's solver (workflow/rules/
+    sphere.smk), the states' and the cases' configurations alike, so that every case can start from its state."""
+    res = snakemake(workdir, "-n", "-p", "sphere")
+    assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
+    jobs = re.findall(r"capslide (?:preload|run) --resume --scene sphere .*", res.stdout)
+    assert len(jobs) == 12, jobs
+    assert all("--set solver.linear=lu_krylov --set solver.factorization=pardiso" in job for job in jobs), jobs
+
+
 def test_the_workflow_passes_its_linter(workdir):
     res = subprocess.run([str(SNAKEMAKE), "--lint"], cwd=workdir, capture_output=True, text=True)
     assert res.returncode == 0 and "Congratulations" in res.stdout + res.stderr, res.stdout[-3000:]

@@ -153,13 +153,17 @@ def case_priority(sets):
     return 5.0 - 10.0 * float(preload)
 
 
-def expand_scene_study(scene_file, spec, what):
-    """Run id -> config overrides of a packaged scene's study section (``spec``), each run's configuration (the
-    scene file, then the run's overrides) validated now, as :func:`expand_study` does for the workflow's study.
+def expand_scene_study(scene_file, spec, what, settings=None):
+    """Run id -> config overrides of a packaged scene's study section (``spec``), each after ``settings`` (dotted
+    key -> value, shared by the study's runs), each run's configuration (the scene file, the settings, then the
+    run's overrides) validated now, as :func:`expand_study` does for the workflow's study. A solver library this
+    Python lacks is left to the jobs to refuse: the workflow reads these rules on every run.
     """
+    settings = settings or {}
     try:
         out = runs(spec, "study")
-        check_runs(out, [scene_file])
+        check_runs(out, [scene_file], settings=settings, libraries=False)
+        out = {run: {**settings, **sets} for run, sets in out.items()}
     except ConfigError as err:
         raise WorkflowError(f"{what}: {err}") from None
     return out

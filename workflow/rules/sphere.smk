@@ -5,7 +5,14 @@
 # cap's study does (workflow/rules/cases.smk). `snakemake --cores 2 sphere` runs it; a rerun resumes the cases.
 SPHERE_SCENE = "config/scenes/sphere.yaml"
 SPHERE_CONFIG = load_config([SPHERE_SCENE])
-SPHERE_CASES = expand_scene_study(SPHERE_SCENE, SPHERE_CONFIG["study"], "sphere study")
+# The study's linear solver: PARDISO's LU factors, reused as GMRES's preconditioner (MKL: `make sphere` sets it up
+# first; without it the jobs stop with one line naming solver.factorization). On the study's mesh (36,450 DOF) it
+# ran the normal state and DI's slide about 3 times faster than pyamg, which `solver.linear: auto` takes in 3D
+# (benchmarks/sphere_solvers.py, docs/sphere.md); pyamg pays at the million-DOF sphere (docs/three_d.md).
+SPHERE_SOLVER = {"solver.linear": "lu_krylov", "solver.factorization": "pardiso"}
+SPHERE_CASES = expand_scene_study(
+    SPHERE_SCENE, SPHERE_CONFIG["study"], "sphere study", SPHERE_SOLVER
+)
 SPHERE_PRELOADS = {
     f"{sets['loading.preload']:+.3f}": sets["loading.preload"]
     for sets in SPHERE_CASES.values()
@@ -55,7 +62,7 @@ rule sphere_state:
         runtime=120,
     params:
         overrides=lambda wildcards: set_args(
-            {"loading.preload": SPHERE_PRELOADS[wildcards.preload]}
+            {**SPHERE_SOLVER, "loading.preload": SPHERE_PRELOADS[wildcards.preload]}
         ),
         code=SOURCE_DIGEST,
         start=lambda wildcards, input: (
