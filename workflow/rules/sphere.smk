@@ -7,8 +7,9 @@ SPHERE_SCENE = "config/scenes/sphere.yaml"
 SPHERE_CONFIG = load_config([SPHERE_SCENE])
 # The study's linear solver: PARDISO's LU factors, reused as GMRES's preconditioner (MKL: `make sphere` sets it up
 # first; without it the jobs stop with one line naming solver.factorization). On the study's mesh (36,450 DOF) it
-# ran the normal state and DI's slide about 3 times faster than pyamg, which `solver.linear: auto` takes in 3D
-# (benchmarks/sphere_solvers.py, docs/sphere.md); pyamg pays at the million-DOF sphere (docs/three_d.md).
+# ran the normal state 2.9 and DI's slide 3.7 times faster than pyamg, which `solver.linear: auto` takes in 3D, to
+# the same results (docs/three_d.md, pyamg as the engine; benchmarks/sphere_solvers.py). Its factors fill in (3.9 GB
+# at 138k DOF against pyamg's 2.1): pyamg is the solver of the million-DOF sphere.
 SPHERE_SOLVER = {"solver.linear": "lu_krylov", "solver.factorization": "pardiso"}
 SPHERE_CASES = expand_scene_study(
     SPHERE_SCENE, SPHERE_CONFIG["study"], "sphere study", SPHERE_SOLVER
