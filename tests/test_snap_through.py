@@ -286,11 +286,12 @@ def test_the_snap_on_the_energy_passes_the_2d_caps_fold(paper_config, monkeypatc
     assert res.records[-1].ubar == pytest.approx(2.2)
 
 
-def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(paper_config, monkeypatch):
-    """With ``friction.threshold_at: step_predicted`` a step extrapolates the gaps along the last converged step;
-    a snap's jump is no such rate, so the step after a snap holds the thresholds at its start state. The 2D cap's
-    fold as above: every step after a snap is given no state before it, every other slide step after the first
-    one is."""
+@pytest.fixture(scope="module")
+def predicted_fold(paper_config):
+    """The 2D cap's fold with DI held at the gaps predicted for each step's end (``step_predicted``), run once for
+    the tests below: its result, and the events of each step in order: ("advanced", whether the step snapped) when a
+    step is taken, ("held", whether its thresholds are held with no state before it) when the next one starts. The
+    recorders call through, so the run is the case's own."""
     from capslide.model.system import CapModel
 
     events = []
@@ -304,11 +305,20 @@ def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(paper_config, m
         events.append(("advanced", snapped))
         return advanced(loop, aim, x, snapped)
 
-    monkeypatch.setattr(CapModel, "step_history", recorded_history)
-    monkeypatch.setattr(continuation, "_advanced", recorded_advance)
-    p = _fold(paper_config, "friction.threshold_at=step_predicted")
-    res = run_case(p)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(CapModel, "step_history", recorded_history)
+        mp.setattr(continuation, "_advanced", recorded_advance)
+        res = run_case(_fold(paper_config, "friction.threshold_at=step_predicted"))
     assert res.status == Status.COMPLETED, res.reason
+    return res, events
+
+
+def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(predicted_fold):
+    """With ``friction.threshold_at: step_predicted`` a step extrapolates the gaps along the last converged step;
+    a snap's jump is no such rate, so the step after a snap holds the thresholds at its start state. The 2D cap's
+    fold as above: every step after a snap is given no state before it, every other slide step after the first
+    one is."""
+    _, events = predicted_fold
     after = [(events[i][1], events[i + 1][1]) for i in range(len(events) - 1)
              if events[i][0] == "advanced" and events[i + 1][0] == "held"]
     snaps = [held_at_start for snapped, held_at_start in after if snapped]
@@ -317,17 +327,14 @@ def test_the_step_after_a_snap_holds_the_thresholds_at_its_start(paper_config, m
     assert sum(not held_at_start for snapped, held_at_start in after if not snapped) > 10
 
 
-def test_slide_steps_grow_back_after_harder_solves_when_asked(paper_config):
+def test_slide_steps_grow_back_after_harder_solves_when_asked(paper_config, predicted_fold):
     """``loading.slide_growth_iterations``: a converged slide step of at most that many Newton iterations lets the
     next one grow. On the 2D cap's fold (steps cut back by 25 halvings at the default of 4) a limit of 30 lets every
     converged step grow back: about half the slide steps (measured 57 against 113), Ft at the end within 1 %."""
-    def slide(growth: int) -> list:
-        p = _fold(paper_config, "friction.threshold_at=step_predicted", f"loading.slide_growth_iterations={growth}")
-        res = run_case(p)
-        assert res.status == Status.COMPLETED, res.reason
-        return [r for r in res.records if r.phase == Phase.SLIDE]
-
-    default, growing = slide(4), slide(30)
+    assert _fold(paper_config).loading.slide_growth_iterations == 4  # the shared run is the default's
+    res = run_case(_fold(paper_config, "friction.threshold_at=step_predicted", "loading.slide_growth_iterations=30"))
+    assert res.status == Status.COMPLETED, res.reason
+    default, growing = ([r for r in case.records if r.phase == Phase.SLIDE] for case in (predicted_fold[0], res))
     print("slide steps", len(default), len(growing))
     assert len(growing) < 0.7 * len(default)
     assert growing[-1].Ft == pytest.approx(default[-1].Ft, rel=1e-2)
