@@ -16,7 +16,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: setup setup-pardiso reproduce convergence sphere experiment3d verification3d test test-all test-slurm lock clean
+.PHONY: setup setup-pardiso unlock reproduce convergence sphere experiment3d verification3d test test-all test-slurm lock clean
 
 setup: $(VENV)/.installed
 
@@ -30,22 +30,31 @@ $(VENV)/.installed: pyproject.toml requirements.lock
 setup-pardiso: setup
 	$(BIN)/python -m pip install --quiet -c requirements.lock -e '.[workflow,slurm,test,pardiso]'
 
-reproduce: setup
+# A run stopped hard (a session's end, a power loss) leaves Snakemake's lock in .snakemake/locks, and the next run
+# stops at it. The workflow targets lift it first, unless a Snakemake process is running in this folder.
+unlock: setup
+	@if [ -n "$$(ls -A .snakemake/locks 2>/dev/null)" ]; then \
+	  busy=; for p in $$(pgrep -f '^[^ ]*python[^ ]* ([^ ]*bin/snakemake|-m snakemake)( |$$)'); do \
+	    if [ "$$(readlink /proc/$$p/cwd)" = "$(CURDIR)" ]; then busy=$$p; fi; done; \
+	  if [ -n "$$busy" ]; then echo "make: Snakemake (pid $$busy) runs in this folder; its lock stays"; \
+	  else $(BIN)/snakemake --unlock > /dev/null 2>&1 && echo "make: lifted the lock a stopped run left in .snakemake/locks"; fi; fi
+
+reproduce: setup unlock
 	$(BIN)/snakemake --cores $(CORES)
 
-convergence: setup
+convergence: setup unlock
 	$(BIN)/snakemake --cores $(CORES) convergence
 
 # The sphere study solves with PARDISO's factors (workflow/rules/sphere.smk), so this target sets MKL up first.
-sphere: setup-pardiso
+sphere: setup-pardiso unlock
 	$(BIN)/snakemake --cores $(CORES) sphere
 
 # The experiment scene solves with PARDISO's factors (docs/experiment3d.md), so this target sets MKL up first.
-experiment3d: setup-pardiso
+experiment3d: setup-pardiso unlock
 	$(BIN)/snakemake --cores $(CORES) experiment3d
 
 # sphere_md3 solves with PARDISO's factors too (docs/three_d.md).
-verification3d: setup-pardiso
+verification3d: setup-pardiso unlock
 	$(BIN)/snakemake --cores $(CORES) verification3d
 
 test: setup

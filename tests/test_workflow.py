@@ -200,6 +200,30 @@ def test_smoke_workflow_end_to_end(workdir):
         assert ds.attrs["status"] == "completed"
 
 
+def test_make_lifts_the_lock_a_stopped_run_left_unless_snakemake_runs_there(workdir, tmp_path):
+    """A run stopped hard leaves Snakemake's lock, at which the next run stops. `make unlock`, which every workflow
+    target runs first, lifts it, but not while a Snakemake process runs in the folder (here a stand-in whose command
+    line is Snakemake's: python .../bin/snakemake)."""
+    make = ["make", "-s", "-f", str(ROOT / "Makefile"), "-o", "setup", "unlock", f"BIN={SNAKEMAKE.parent}"]
+    lock = workdir / ".snakemake" / "locks" / "0.input.lock"
+    lock.parent.mkdir(parents=True)
+    lock.write_text("stale")
+    stand_in = tmp_path / "bin" / "snakemake"
+    stand_in.parent.mkdir()
+    stand_in.write_text("import time\ntime.sleep(60)\n")
+    running = subprocess.Popen([sys.executable, str(stand_in), "--cores", "2"], cwd=workdir)
+    try:
+        busy = subprocess.run(make, cwd=workdir, capture_output=True, text=True)
+    finally:
+        running.kill()
+        running.wait()
+    assert busy.returncode == 0 and f"Snakemake (pid {running.pid}) runs in this folder" in busy.stdout
+    assert lock.exists()
+    idle = subprocess.run(make, cwd=workdir, capture_output=True, text=True)
+    assert idle.returncode == 0 and "lifted the lock" in idle.stdout, idle.stdout + idle.stderr
+    assert not lock.exists()
+
+
 def run_documented_examples(workdir):
     """Every Python example of README.md, docs/data.md and docs/cli.md, run where the smoke study's results are; the examples
     of one document share a namespace, as they do for a reader going down the page."""
