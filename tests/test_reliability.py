@@ -337,6 +337,7 @@ def test_pull_off_of_a_completed_case_is_refused(tmp_path):
     ({"friction.model": "none", "friction.threshold_at": "step_start"}, "friction.model = none"),
     ({"loading.dwell": 2.0}, "loading.velocity = None"),
     ({"mesh.line_band": [5.0, 8.0]}, "mesh.element = Q1"),
+    ({"mesh.line_refinement": 8.0}, "mesh.line_refinement = 8.0 is not allowed with mesh.line_band = None"),
 ])
 def test_inputs_that_fail_or_do_nothing_are_refused(paper_config, sets, words):
     with pytest.raises(ConfigError, match=words.replace("(", r"\(")):
@@ -350,6 +351,16 @@ def test_a_contact_line_annulus_off_the_band_is_refused(band, words):
 
     with pytest.raises(ConfigError, match=words):
         mesh_spec(Parameters.from_config(load_config([scene_path("sphere")], [f"mesh.line_band={band}"])))
+
+
+def test_a_ring_refinement_without_its_annulus_is_refused_not_ignored():
+    """The sphere scene has no contact-line annulus: mesh.line_refinement alone would mesh the same cells."""
+    from capslide.config import load_config, scene_path
+
+    with pytest.raises(ConfigError, match=r"mesh.line_refinement = 8 is not allowed with mesh.line_band = None"):
+        load_config([scene_path("sphere")], ["mesh.line_refinement=8"])
+    for sets in (["mesh.line_refinement=4"], ["mesh.line_band=[4.5,7.5]", "mesh.line_refinement=8"]):
+        load_config([scene_path("sphere")], sets)
 
 
 def test_a_spring_at_the_bound_is_accepted(paper_config):

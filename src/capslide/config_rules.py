@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from .config import SPHERE_ELEMENTS, ConfigError
+from .config import SPHERE_ELEMENTS, ConfigError, schema
 
 __all__ = ["LOCKING_NU", "MAX_SPRING_OVER_E", "check_consistency", "derive_from_maugis_lambda", "top_surface"]
 
@@ -54,7 +54,12 @@ def derive_mu_DI(config: dict) -> None:
 
 
 def _check_three_d(config: Mapping) -> None:
-    """The 3D sphere (mesh.element = H1, H2) has an elastic bulk only in this version (the viscous branches are 2D)."""
+    """The 3D sphere's mesh keys (mesh.element = H1, H2) shape only its mesh, and its bulk is elastic in this version
+    (the viscous branches are 2D)."""
+    line, refinement = config["mesh"]["line_band"], config["mesh"]["line_refinement"]
+    if line is None and refinement != schema()["properties"]["mesh"]["properties"]["line_refinement"]["default"]:
+        raise ConfigError(f"mesh.line_refinement = {refinement!r} is not allowed with mesh.line_band = None: it refines "
+                          "the rings of the contact-line annulus (give mesh.line_band)")
     if config["mesh"]["element"] not in SPHERE_ELEMENTS:
         if config["mesh"]["max_layer_aspect"] is not None:
             raise ConfigError(f"mesh.max_layer_aspect = {config['mesh']['max_layer_aspect']!r} is not allowed with "
@@ -66,7 +71,6 @@ def _check_three_d(config: Mapping) -> None:
             raise ConfigError(f"mesh.symmetry_plane = False is not allowed with mesh.element = "
                               f"{config['mesh']['element']}: it shapes the 3D sphere's mesh (H1 or H2)")
         return
-    line = config["mesh"]["line_band"]
     if line is not None and not line[0] < line[1]:
         raise ConfigError(f"mesh.line_band = {line!r} is not allowed: its inner radius must be below its outer one")
     if config["material"]["model"] != "neo_hooke":
