@@ -130,6 +130,10 @@ def _check_no_op_keys(config: Mapping) -> None:
     if fr["threshold_at"] != "current" and fr["model"] == "none":
         raise ConfigError(f"friction.threshold_at = {fr['threshold_at']!r} is not allowed with friction.model = none: "
                           "there is no threshold")
+    sol = config["solver"]
+    if sol["factor_precision"] != "double" and sol["factorization"] != "pardiso":
+        raise ConfigError(f"solver.factor_precision = {sol['factor_precision']!r} is not allowed with "
+                          f"solver.factorization = {sol['factorization']}: it sets the precision of PARDISO's factors")
     adh = config["adhesion"]
     for key, default in (("dugdale_ramp", 0.8), ("dugdale_penalty", 0.005)):
         if adh[key] != default and adh["law"] != "dugdale":

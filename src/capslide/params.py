@@ -243,6 +243,7 @@ class SolverSpec:
     newton_max_iterations: int
     krylov_rtol: float
     factorization: str = "superlu"  # LU factors of lu_krylov: superlu or pardiso (capslide.solvers.pardiso)
+    factor_precision: str = "double"  # PARDISO's factors in double or single precision
     snap_through: bool = False  # a step failing below the minimum step is tried by pseudo-transient continuation
     longest_step_max_growth: float | None = None  # Newton's fallback step's largest residual growth (None: any)
 
@@ -378,6 +379,7 @@ class Parameters:
                 newton_max_iterations=int(sol["newton_max_iterations"]),
                 snap_through=bool(sol["snap_through"]), longest_step_max_growth=sol["longest_step_max_growth"],
                 krylov_rtol=float(sol["krylov_rtol"]), factorization=sol["factorization"],
+                factor_precision=sol["factor_precision"],
             ),
             output=Output(snapshot_ubar=tuple(config["output"]["snapshot_ubar"]),
                           checkpoint_every=int(config["output"]["checkpoint_every"]),

@@ -81,5 +81,6 @@ def build_model(params: Parameters, mesh: Mesh | None = None, solver: str | None
                                 mesh.dim)
     exact = poorly_shaped_dofs(mesh.nodes, mesh.cells) if kind == "amg" and mesh.dim == 2 else None
     linear = make_solver(kind, rtol=params.solver.krylov_rtol, near_null_space=rigid_body_modes(mesh.nodes),
-                         diagonal_pivoting=mixed, exact_dofs=exact, factorization=params.solver.factorization)
+                         diagonal_pivoting=mixed, exact_dofs=exact, factorization=params.solver.factorization,
+                         single=params.solver.factor_precision == "single")
     return CapModel(mesh, params, linear)

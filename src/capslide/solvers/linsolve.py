@@ -150,6 +150,7 @@ class LUKrylovSolver:
     permc_spec: str = "MMD_AT_PLUS_A"
     diagonal_pivoting: bool = False
     factorization: str = "superlu"  # or 'pardiso': MKL PARDISO, its analysis kept while the pattern stays
+    single: bool = False  # PARDISO's factors in single precision (GMRES runs in double)
     _lu: object = field(default=None, init=False, repr=False)
     _pardiso: PardisoFactors | None = field(default=None, init=False, repr=False)
     _generation: int = field(default=0, init=False, repr=False)  # counts factorizations
@@ -185,7 +186,7 @@ class LUKrylovSolver:
             if self._pardiso is not None and self._pardiso.same_pattern(A):
                 self._pardiso.refactor(A)  # numeric only
             else:
-                self._pardiso = PardisoFactors(A)
+                self._pardiso = PardisoFactors(A, single=self.single)
             self._lu = self._pardiso
         else:
             self._lu = _factor(A, self.permc_spec, self.diagonal_pivoting)
@@ -304,15 +305,17 @@ def choose_linear_solver(kind: str, n_dofs: int, mixed: bool, amg_above_dofs: in
 
 
 def make_solver(kind: str, rtol: float = 1e-8, near_null_space: np.ndarray | None = None,
-                diagonal_pivoting: bool = False, exact_dofs: np.ndarray | None = None, factorization: str = "superlu"):
+                diagonal_pivoting: bool = False, exact_dofs: np.ndarray | None = None, factorization: str = "superlu",
+                single: bool = False):
     """A solver by name: 'amg' (with ``near_null_space``, e.g. the rigid-body modes, and ``exact_dofs``, e.g. those
-    of the poorly shaped cells), 'lu_krylov' (its factors from ``factorization``: 'superlu' or 'pardiso') or
-    'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
+    of the poorly shaped cells), 'lu_krylov' (its factors from ``factorization``: 'superlu' or 'pardiso', the
+    latter in single precision with ``single``) or 'direct' (``diagonal_pivoting``: see :func:`_factor`)."""
     if kind == "amg":  # BSR blocks of the node's DOFs: 3 in 3D (six rigid-body modes), 2 in 2D (three)
         block = 3 if near_null_space is not None and near_null_space.shape[1] == 6 else 2
         return AMGSolver(near_null_space=near_null_space, exact_dofs=exact_dofs, rtol=rtol, block_size=block)
     if kind == "lu_krylov":
-        return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting, factorization=factorization)
+        return LUKrylovSolver(rtol=rtol, diagonal_pivoting=diagonal_pivoting, factorization=factorization,
+                              single=single)
     if kind == "direct":
         return DirectSolver(diagonal_pivoting=diagonal_pivoting)
     raise ValueError(f"unknown linear solver {kind!r} (allowed: {', '.join(SOLVERS)}; 'auto' goes through "

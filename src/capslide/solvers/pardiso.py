@@ -13,7 +13,9 @@ library ``libmkl_rt``, which is called here through ctypes. Settings:
 real unsymmetric matrix (type 11), zero-based CSR indices, pivots perturbed
 to 1e-13 of the norm (a preconditioner need not be exact), no iterative
 refinement, and no scaling or weighted matching, so that the analysis depends
-on the pattern alone. PARDISO runs on one thread, whatever MKL_NUM_THREADS says:
+on the pattern alone. With ``single=True`` the numeric factorization and the
+solves run in single precision (iparm[27] = 1; the matrix and vectors are
+passed as float32): a preconditioner for GMRES, which runs in double. PARDISO runs on one thread, whatever MKL_NUM_THREADS says:
 with two, a fresh factorization and a refactorization of the same matrix
 differed in the last bits, and a resumed case must repeat the uninterrupted
 one bit for bit.
@@ -60,18 +62,17 @@ def mkl_runtime() -> ctypes.CDLL | None:
         except OSError:
             continue
         ints = np.ctypeslib.ndpointer(_INT, flags="C_CONTIGUOUS")
-        reals = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
         lib.MKL_Domain_Set_Num_Threads.argtypes = [ctypes.c_int, ctypes.c_int]
         lib.MKL_Domain_Set_Num_Threads(1, _MKL_DOMAIN_PARDISO)  # one thread: the same factors in every run
         lib.pardiso.restype = None
         lib.pardiso.argtypes = [np.ctypeslib.ndpointer(np.int64, flags="C_CONTIGUOUS"), ints, ints, ints, ints, ints,
-                                reals, ints, ints, ctypes.c_void_p, ints, ints, ints, ctypes.c_void_p,
-                                ctypes.c_void_p, ints]
+                                ctypes.c_void_p, ints, ints, ctypes.c_void_p, ints, ints, ints, ctypes.c_void_p,
+                                ctypes.c_void_p, ints]  # the matrix and vectors: float64, or float32 in single precision
         return lib
     return None
 
 
-def _settings() -> np.ndarray:
+def _settings(single: bool = False) -> np.ndarray:
     """PARDISO's iparm (0-based positions of the 1-based manual's entries)."""
     iparm = np.zeros(64, dtype=_INT)
     iparm[0] = 1  # these settings, not the defaults
@@ -82,36 +83,40 @@ def _settings() -> np.ndarray:
     iparm[12] = 0  # no weighted matching: the analysis depends on the pattern alone
     iparm[17] = -1  # report the fill of L + U
     iparm[18] = -1  # report the numeric factorization's flops (in millions)
+    iparm[27] = 1 if single else 0  # single or double precision
     iparm[34] = 1  # zero-based indices
     return iparm
 
 
-def _release(lib, handle: np.ndarray, n: int) -> None:
+def _release(lib, handle: np.ndarray, n: int, single: bool) -> None:
     """Free PARDISO's memory of ``handle`` (phase -1)."""
     one, error = np.ones(1, dtype=_INT), np.zeros(1, dtype=_INT)
-    empty_i, empty_r = np.zeros(1, dtype=_INT), np.zeros(1)
+    empty_i = np.zeros(1, dtype=_INT)
     lib.pardiso(handle, one, one, np.array([_MATRIX_TYPE], dtype=_INT), np.array([_PHASE_FREE], dtype=_INT),
-                np.array([n], dtype=_INT), empty_r, empty_i, empty_i, None, one, _settings(), np.zeros(1, dtype=_INT),
-                None, None, error)
+                np.array([n], dtype=_INT), None, empty_i, empty_i, None, one, _settings(single),
+                np.zeros(1, dtype=_INT), None, None, error)
 
 
 class PardisoFactors:
-    """LU factors of a square CSR matrix; :meth:`refactor` with a matrix of the same pattern redoes only the numeric
-    factorization. ``solve(b)`` takes one right-hand side (n,) or several (n, k)."""
+    """LU factors of a square CSR matrix, in double precision or with ``single`` in single; :meth:`refactor` with a
+    matrix of the same pattern redoes only the numeric factorization. ``solve(b)`` takes one right-hand side (n,) or
+    several (n, k) and returns float64."""
 
-    def __init__(self, A: sp.csr_matrix):
+    def __init__(self, A: sp.csr_matrix, single: bool = False):
         lib = mkl_runtime()
         if lib is None:
             raise PardisoUnavailable("MKL PARDISO needs the MKL runtime library: pip install mkl (x86-64 only)")
         self._lib = lib
         self.n = A.shape[0]
         self._handle = np.zeros(64, dtype=np.int64)  # PARDISO's internal pointers
-        self._iparm = _settings()
+        self.single = single
+        self._real = np.float32 if single else np.float64
+        self._iparm = _settings(single)
         A = self._csr(A)
         self._indptr, self._indices = A.indptr.astype(_INT), A.indices.astype(_INT)
-        self._data = np.ascontiguousarray(A.data, dtype=np.float64)
+        self._data = np.ascontiguousarray(A.data, dtype=self._real)
         self._call(_PHASE_ANALYSIS)
-        weakref.finalize(self, _release, lib, self._handle, self.n)
+        weakref.finalize(self, _release, lib, self._handle, self.n, single)
         self._call(_PHASE_NUMERIC)
 
     @staticmethod
@@ -142,26 +147,26 @@ class PardisoFactors:
         A = self._csr(A)
         if not self.same_pattern(A):
             raise ValueError("refactor needs the sparsity pattern of the analysed matrix")
-        self._data = np.ascontiguousarray(A.data, dtype=np.float64)
+        self._data = np.ascontiguousarray(A.data, dtype=self._real)
         self._call(_PHASE_NUMERIC)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        b = np.ascontiguousarray(b, dtype=np.float64)
+        b = np.ascontiguousarray(b, dtype=self._real)
         if b.shape[0] != self.n:
             raise ValueError(f"right-hand side of length {b.shape[0]} for a matrix of size {self.n}")
         x = np.empty_like(b)
         nrhs = 1 if b.ndim == 1 else b.shape[1]
         if nrhs > 1:  # PARDISO takes the right-hand sides as columns stored one after the other
-            bt, xt = np.ascontiguousarray(b.T), np.empty((nrhs, self.n))
+            bt, xt = np.ascontiguousarray(b.T), np.empty((nrhs, self.n), dtype=self._real)
             self._call(_PHASE_SOLVE, bt, xt, nrhs)
-            return xt.T.copy()
+            return np.ascontiguousarray(xt.T, dtype=np.float64)
         self._call(_PHASE_SOLVE, b, x, 1)
-        return x
+        return x.astype(np.float64, copy=False)
 
     def _call(self, phase: int, b: np.ndarray | None = None, x: np.ndarray | None = None, nrhs: int = 1) -> None:
         one, error = np.ones(1, dtype=_INT), np.zeros(1, dtype=_INT)
         self._lib.pardiso(self._handle, one, one, np.array([_MATRIX_TYPE], dtype=_INT), np.array([phase], dtype=_INT),
-                          np.array([self.n], dtype=_INT), self._data, self._indptr, self._indices, None,
+                          np.array([self.n], dtype=_INT), self._data.ctypes.data, self._indptr, self._indices, None,
                           np.array([nrhs], dtype=_INT), self._iparm, np.zeros(1, dtype=_INT),
                           None if b is None else b.ctypes.data, None if x is None else x.ctypes.data, error)
         if error[0] != 0:
