@@ -16,19 +16,17 @@
 from __future__ import annotations
 
 import argparse
-import statistics
 import time
 
 import numpy as np
 import scipy.sparse.linalg as spla
-from lu_refactor_balance import scene_tangent
+from lu_refactor_balance import measure, scene_tangent
 from slide_newton_diagnosis import study_checkpoint
 
 from capslide.config import load_config, scene_path
 from capslide.driver.case import run_case
 from capslide.params import Parameters
 from capslide.solvers.linsolve import LUKrylovSolver
-from capslide.solvers.pardiso import PardisoFactors
 
 PRECISIONS = ("double", "single")
 
@@ -36,22 +34,12 @@ PRECISIONS = ("double", "single")
 def matrix_row(preset: str, single: bool, repeats: int) -> dict:
     A = scene_tangent(preset)
     A.sort_indices()
-    factors = PardisoFactors(A, single=single)
+    row = measure(A, repeats, single)
     b = np.random.default_rng(0).standard_normal(A.shape[0])
-    refactor, solve = [], []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        factors.refactor(A)
-        refactor.append(time.perf_counter() - t)
-    for _ in range(5 * repeats):
-        t = time.perf_counter()
-        x = factors.solve(b)
-        solve.append(time.perf_counter() - t)
-    count = [0]
-    spla.gmres(A, b, M=spla.LinearOperator(A.shape, factors.solve), rtol=1e-8, restart=40, maxiter=3,
+    x, count = row["factors"].solve(b), [0]
+    spla.gmres(A, b, M=spla.LinearOperator(A.shape, row["factors"].solve), rtol=1e-8, restart=40, maxiter=3,
                callback=lambda _: count.__setitem__(0, count[0] + 1), callback_type="pr_norm")
-    return {"dofs": A.shape[0], "refactor": statistics.median(refactor), "solve": statistics.median(solve),
-            "residual": np.linalg.norm(A @ x - b) / np.linalg.norm(b), "gmres": count[0]}
+    return {**row, "residual": np.linalg.norm(A @ x - b) / np.linalg.norm(b), "gmres": count[0]}
 
 
 def path_row(checkpoint: str, case: str, ubar: float, precision: str) -> dict:

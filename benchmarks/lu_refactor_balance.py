@@ -45,10 +45,11 @@ def grid(n: int, dim: int, block: int) -> sp.csr_matrix:
     return (A + 30.0 * sp.eye(A.shape[0])).tocsr()
 
 
-def measure(A: sp.csr_matrix, repeats: int) -> dict:
+def measure(A: sp.csr_matrix, repeats: int, single: bool = False) -> dict:
+    """Median refactorization and solve times of PARDISO's factors of A (in single precision with ``single``)."""
     A = A.tocsr()
     A.sort_indices()
-    f = PardisoFactors(A)
+    f = PardisoFactors(A, single=single)
     refactor, solve = [], []
     b = np.ones(A.shape[0])
     for _ in range(repeats):
@@ -61,7 +62,7 @@ def measure(A: sp.csr_matrix, repeats: int) -> dict:
         solve.append(time.perf_counter() - t)
     tf, ts = statistics.median(refactor), statistics.median(solve)
     return {"dofs": A.shape[0], "fill": f.fill, "mflop": f.factorization_flops / 1e6, "refactor": tf, "solve": ts,
-            "measured": tf / ts, "estimated": factorization_cost_in_solves(f)}
+            "measured": tf / ts, "estimated": factorization_cost_in_solves(f), "factors": f}
 
 
 def main() -> None:
