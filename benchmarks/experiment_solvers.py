@@ -45,11 +45,12 @@ def one_run(state: str, case: dict, ubar: float, solver: dict) -> dict:
     params = Parameters.from_config(load_config([scene_path("experiment")],
                                                 settings={**case, **solver, "loading.ubar_max": ubar}))
     start = replace(saved, state=continued_from(params.loading, saved.state, reached, approached[-1]))
+    cutbacks = start.state.cutbacks  # before the run, which may continue the saved loop in place
     t = time.perf_counter()
     res = run_case(params, resume=start)
     wall = time.perf_counter() - t
     new = res.records[len(saved.records):]
-    return {"status": res.status.label, "steps": len(new), "cutbacks": res.cutbacks - start.state.cutbacks, "wall": wall,
+    return {"status": res.status.label, "steps": len(new), "cutbacks": res.cutbacks - cutbacks, "wall": wall,
             "newton": sum(r.newton_iterations for r in new), "krylov": sum(r.krylov_iterations for r in new),
             "per_step": statistics.median(r.wall_time for r in new), "Ft": new[-1].Ft, "area": new[-1].area}
 

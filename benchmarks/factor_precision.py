@@ -54,6 +54,7 @@ def path_row(checkpoint: str, case: str, ubar: float, precision: str) -> dict:
         return factor(self, A)
 
     LUKrylovSolver.factor = counted_factor
+    cutbacks = saved.state.cutbacks  # before the run, which continues the saved loop in place
     try:
         t = time.perf_counter()
         res = run_case(params, resume=saved)
@@ -62,7 +63,7 @@ def path_row(checkpoint: str, case: str, ubar: float, precision: str) -> dict:
         LUKrylovSolver.factor = factor
     new = res.records[len(saved.records):]
     return {"status": res.status.label, "from": saved.records[-1].ubar, "to": new[-1].ubar, "steps": len(new),
-            "cutbacks": res.cutbacks - saved.state.cutbacks, "wall": wall, "factorizations": counted[0],
+            "cutbacks": res.cutbacks - cutbacks, "wall": wall, "factorizations": counted[0],
             "newton": sum(r.newton_iterations for r in new), "krylov": sum(r.krylov_iterations for r in new),
             "Ft": new[-1].Ft, "area": new[-1].area}
 
