@@ -15,10 +15,10 @@ to 1e-13 of the norm (a preconditioner need not be exact), no iterative
 refinement, and no scaling or weighted matching, so that the analysis depends
 on the pattern alone. With ``single=True`` the numeric factorization and the
 solves run in single precision (iparm[27] = 1; the matrix and vectors are
-passed as float32): a preconditioner for GMRES, which runs in double. PARDISO runs on one thread, whatever MKL_NUM_THREADS says:
-with two, a fresh factorization and a refactorization of the same matrix
-differed in the last bits, and a resumed case must repeat the uninterrupted
-one bit for bit.
+passed as float32): a preconditioner for GMRES, which runs in double.
+PARDISO runs on one thread, whatever MKL_NUM_THREADS says: with two, a fresh
+factorization and a refactorization of the same matrix differed in the last
+bits, and a resumed case must repeat the uninterrupted one bit for bit.
 """
 
 from __future__ import annotations
