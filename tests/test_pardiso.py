@@ -169,14 +169,15 @@ def test_factors_that_fill_in_are_kept_until_their_cost_in_solves_is_spent(tange
 @needs_mkl
 def test_single_precision_factors_precondition_gmres_to_the_double_answer(tangent, paper_config):
     """solver.factor_precision single: PARDISO factors and solves in float32 (one solve leaves a relative residual
-    of about 1e-6 where double leaves round-off), and GMRES, in double, still reaches the tolerance and the direct
-    answer, in more iterations. The same matrix gives the same factors bit for bit, as in double."""
+    of 6e-4 on this tangent, 1e-5 on the experiment scene's, where double leaves round-off), and GMRES, in double,
+    still reaches the tolerance and the direct answer, in more iterations. The same matrix gives the same factors bit
+    for bit, as in double."""
     A, B = tangent
     b = np.random.default_rng(7).normal(size=A.shape[0])
     single = pardiso.PardisoFactors(A, single=True)
     one_solve = single.solve(b)
     assert one_solve.dtype == np.float64 and single.solve(np.stack([b, b], axis=1)).shape == (A.shape[0], 2)
-    assert 1e-9 < residual(A, one_solve, b) < 1e-3 and residual(A, pardiso.PardisoFactors(A).solve(b), b) < 1e-11
+    assert 1e-9 < residual(A, one_solve, b) < 1e-2 and residual(A, pardiso.PardisoFactors(A).solve(b), b) < 1e-11
     again = pardiso.PardisoFactors(B, single=True)
     again.refactor(A)
     np.testing.assert_array_equal(again.solve(b), one_solve)
