@@ -1,6 +1,7 @@
 """Checkpoints: a killed case resumed from its checkpoint gives the history of an uninterrupted run, bit for bit."""
 
 import os
+import re
 import subprocess
 import sys
 
@@ -191,10 +192,11 @@ def test_one_writer_per_checkpoint(setup, tmp_path):
 
 def test_cli_resume_after_ctrl_c(tmp_path):
     """capslide run interrupted by SIGINT after a known step (the CAPSLIDE_INTERRUPT_AFTER_STEP hook) leaves no case
-    file but a checkpoint; --resume finishes with the same history, bit for bit."""
+    file but a checkpoint; --resume finishes with the same history, bit for bit. Its log shows every step once:
+    the checkpoint's steps as the interrupted run logged them (Snakemake empties a job's log before a rerun)."""
     sets = sum((["--set", s] for s in COARSE + ["output.checkpoint_every=5"]), [])
-    cmd = [sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), *sets, "-q"]
-    ref = subprocess.run([*cmd, "-o", str(tmp_path / "ref.nc")], capture_output=True, text=True)
+    cmd = [sys.executable, "-m", "capslide", "run", str(PAPER_CONFIG), *sets]
+    ref = subprocess.run([*cmd, "-q", "-o", str(tmp_path / "ref.nc")], capture_output=True, text=True)
     assert ref.returncode == 0, ref.stderr
     with xr.open_dataset(tmp_path / "ref.nc") as ds:
         kill_at = int(np.flatnonzero(ds["phase"].values == Phase.SLIDE)[0]) + 12  # inside the slide
@@ -204,14 +206,41 @@ def test_cli_resume_after_ctrl_c(tmp_path):
                          preexec_fn=default_sigint)
     assert res.returncode == 130 and "interrupted" in res.stderr, res.stderr
     assert not out.exists() and ckpt.is_dir()
+    logged = step_lines(res.stderr)
     res = subprocess.run([*cmd, "--resume", "-o", str(out)], capture_output=True, text=True)
     assert res.returncode == 0 and f"resuming from {ckpt} (" in res.stderr, res.stderr
     assert not ckpt.exists()  # removed once the case file is written
+    saved = int(re.search(r"\((\d+) converged steps\)", res.stderr)[1])
+    assert 0 < saved < len(logged) == kill_at and step_lines(res.stderr)[:saved] == logged[:saved]
     with xr.open_dataset(tmp_path / "ref.nc") as a, xr.open_dataset(out) as b:
-        assert a.sizes == b.sizes
+        assert a.sizes == b.sizes and len(step_lines(res.stderr)) == a.sizes["step"]
         for name in a.data_vars:
             if name != "wall_time":
                 np.testing.assert_array_equal(b[name].values, a[name].values, err_msg=name)
+
+
+def step_lines(log: str) -> list[str]:
+    """The step lines of a case's log (its progress without a terminal)."""
+    return [line for line in log.splitlines() if re.match(r"[a-z]+ +ubar=", line)]
+
+
+def test_a_resumed_sweep_shows_its_saved_steps_first(setup, uninterrupted, tmp_path):
+    """capslide verify --resume writes the step lines of the sweep's checkpoint before it goes on, as a resumed case
+    does (Snakemake empties a job's log before a rerun)."""
+    import io
+    from types import SimpleNamespace
+
+    from capslide.cli.progress import ProgressDisplay, log_line
+    from capslide.cli.studies import _sweep_checkpoint
+    from capslide.io.sweep_checkpoint import SavedSweep, save_sweep, sweep_checkpoint_path
+
+    params, text = setup
+    out = tmp_path / "t.csv"
+    save_sweep(sweep_checkpoint_path(out), text, SavedSweep(uninterrupted.final_x, 1.0, uninterrupted.records[:9]))
+    shown = io.StringIO()
+    _, saved, _ = _sweep_checkpoint(SimpleNamespace(resume=True), params, out, ProgressDisplay(stream=shown))
+    assert len(saved.records) == 9
+    assert shown.getvalue() == "".join(log_line(r) for r in uninterrupted.records[:9])
 
 
 def test_a_checkpoint_holds_every_field_of_a_record():

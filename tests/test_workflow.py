@@ -178,6 +178,7 @@ def test_smoke_workflow_end_to_end(workdir):
     assert pvd.count("<DataSet ") == 6 and len(list((results / "paraview" / "DI_Fn+0.000").glob("*.vtu"))) == 6
 
     # deleting one case file reruns that case and what depends on it, nothing else
+    uninterrupted = untimed_steps((logs / "cases" / "EA0_Fn+0.000.log").read_text())
     (results / "cases" / "EA0_Fn+0.000.nc").unlink()
     dry = snakemake(workdir, "--configfile", "config/smoke.yaml", "-n")
     assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 3, "all": 1}
@@ -195,9 +196,16 @@ def test_smoke_workflow_end_to_end(workdir):
     assert (results / "cases" / ".EA0_Fn+0.000.nc.checkpoint").is_dir()  # saved at step 20
     rerun = snakemake(workdir, "--configfile", "config/smoke.yaml")
     assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
-    assert "resuming from" in (logs / "cases" / "EA0_Fn+0.000.log").read_text()
+    resumed = (logs / "cases" / "EA0_Fn+0.000.log").read_text()
+    assert "resuming from" in resumed and len(uninterrupted) > 30
+    assert untimed_steps(resumed) == uninterrupted  # Snakemake emptied the log: the checkpoint's steps shown again
     with xr.open_dataset(results / "cases" / "EA0_Fn+0.000.nc") as ds:
         assert ds.attrs["status"] == "completed"
+
+
+def untimed_steps(log: str) -> list[str]:
+    """The step lines of a case's log without their wall times."""
+    return [re.sub(r" t= *[0-9.]+s$", "", line) for line in log.splitlines() if re.match(r"[a-z]+ +ubar=", line)]
 
 
 def test_make_lifts_the_lock_a_stopped_run_left_unless_snakemake_runs_there(workdir, tmp_path):

@@ -94,7 +94,6 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
     elif args.resume and path.exists():
         try:
             saved = load_checkpoint(path, text)
-            print(f"capslide: resuming from {path} ({len(saved.records)} converged steps)", file=sys.stderr)
         except CheckpointError as err:
             print(f"capslide: {err}; starting afresh", file=sys.stderr)
     if every:
@@ -103,6 +102,10 @@ def _run_checkpointed(params, output: Path, args, start=None, stop_before: str =
         except CheckpointBusy as err:
             print(f"capslide: {err}; this run keeps no checkpoint", file=sys.stderr)
     observers = [] if args.quiet else [ProgressDisplay(params.loading)]
+    if saved is not start:  # resumed: the log goes on from the checkpoint's steps (a start's are not this run's)
+        for display in observers:
+            display.replay(saved.records[len(start.records) if start is not None else 0:])
+        print(f"capslide: resuming from {path} ({len(saved.records)} converged steps)", file=sys.stderr)
     if os.environ.get(INTERRUPT_AFTER_STEP):
         signum = signal.Signals[f"SIG{os.environ.get(INTERRUPT_SIGNAL, 'INT')}"]
         interrupt = lambda: os.killpg(os.getpgrp(), signum)  # noqa: E731 (as Ctrl-C does to a foreground job)

@@ -15,7 +15,7 @@ import sys
 from ..driver.observers import Observer
 from ..loadpath.legs import LegName, plan
 
-__all__ = ["ProgressDisplay", "path_fraction", "in_notebook"]
+__all__ = ["ProgressDisplay", "path_fraction", "in_notebook", "log_line"]
 
 WIDTH = 80
 
@@ -43,6 +43,13 @@ def path_fraction(step, loading, leg_start: float | None) -> float:
     else:
         inner = 0.5
     return lo + (hi - lo) * min(max(inner, 0.0), 1.0)
+
+
+def log_line(rec) -> str:
+    """One step record as a log line (the step's own wall time at its end)."""
+    return (f"{rec.phase.label:8s} ubar={rec.ubar:7.4f} h={rec.h:9.5f} Fn={rec.Fn:+.5f} Ft={rec.Ft:+.5f} "
+            f"area={rec.area:8.4f} stick={rec.area_stick:8.4f} newton={rec.newton_iterations:2d} "
+            f"krylov={rec.krylov_iterations:4d} t={rec.wall_time:6.2f}s\n")
 
 
 def in_notebook() -> bool:
@@ -79,10 +86,7 @@ class ProgressDisplay(Observer):
         """Show one step record."""
         self.steps += 1
         if self.bar is None:
-            self.stream.write(f"{rec.phase.label:8s} ubar={rec.ubar:7.4f} h={rec.h:9.5f} Fn={rec.Fn:+.5f} "
-                              f"Ft={rec.Ft:+.5f} area={rec.area:8.4f} stick={rec.area_stick:8.4f} "
-                              f"newton={rec.newton_iterations:2d} krylov={rec.krylov_iterations:4d} "
-                              f"t={rec.wall_time:6.2f}s\n")
+            self.stream.write(log_line(rec))
             self.stream.flush()
             return
         load = {"slide": f"ubar {rec.ubar:5.3f}", "dwell": f"t {rec.time:.3g} s"}.get(rec.phase.label, f"Fn {rec.Fn:+.3f}")
@@ -91,6 +95,14 @@ class ProgressDisplay(Observer):
         if percent is not None:
             self.bar.n = percent
         self.bar.refresh()
+
+    def replay(self, records) -> None:
+        """Show the steps a resumed run takes over from its checkpoint: their log lines once more, as the
+        interrupted run wrote them (Snakemake empties a job's log before a rerun), or their count on a bar."""
+        if self.bar is None:
+            self.stream.write("".join(log_line(rec) for rec in records))
+            self.stream.flush()
+        self.steps += len(records)
 
     def step(self, step):
         state = step.state

@@ -52,7 +52,7 @@ def cmd_verify(args) -> int:
         from ..studies.verification_3d import sphere_sweep as sweep
 
         scene = args.scene or Path(config_sources(args)[-1]).stem
-    checkpoint, saved, save = _sweep_checkpoint(args, params, output)
+    checkpoint, saved, save = _sweep_checkpoint(args, params, output, progress)
     try:
         rows = sweep(params, scene, progress=progress, saved=saved, save=save)
     except VerificationFailed as err:
@@ -84,9 +84,9 @@ def cmd_verify(args) -> int:
     return 0
 
 
-def _sweep_checkpoint(args, params, output: Path):
+def _sweep_checkpoint(args, params, output: Path, progress=None):
     """The sweep's checkpoint path beside ``output``, the saved sweep ``--resume`` continues (None: afresh; one line
-    says why a checkpoint cannot be used) and the callable that saves one."""
+    says why a checkpoint cannot be used; ``progress`` shows its steps again) and the callable that saves one."""
     from ..io.checkpoint import CheckpointError, config_text
     from ..io.sweep_checkpoint import load_sweep, save_sweep, sweep_checkpoint_path
 
@@ -94,6 +94,8 @@ def _sweep_checkpoint(args, params, output: Path):
     if args.resume and path.exists():
         try:
             saved = load_sweep(path, text)
+            if progress is not None:
+                progress.replay(saved.records)
             print(f"capslide: resuming from {path} ({len(saved.records)} converged steps, {len(saved.done)} loads done)",
                   file=sys.stderr)
         except CheckpointError as err:
