@@ -27,7 +27,7 @@ rule verify_scene:
         mem_mb=4000,
         runtime=60,
     shell:
-        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} --scene {{wildcards.scene}} -q -o {{output}} > {{log}} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} --scene {{wildcards.scene}} -o {{output}} > {{log}} 2>&1"
 
 
 rule verification_figure:
@@ -84,4 +84,4 @@ rule verify_scene_3d:
         mem_mb=9000,  # sphere_md3: 7.8 GB peak (docs/three_d.md)
         runtime=180,
     shell:
-        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} -q --resume -o {{output}} > {{log}} 2>&1"
+        f"{THREADS_ENV} {CAPSLIDE} verify {{input}} --resume -o {{output}} > {{log}} 2>&1"
