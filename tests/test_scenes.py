@@ -77,3 +77,19 @@ def test_the_wheel_ships_the_scenes(tmp_path):
     res = subprocess.run([sys.executable, "-c", check % str(tmp_path / "site")], cwd=tmp_path, capture_output=True,
                          text=True, env={**os.environ, "PYTHONPATH": str(tmp_path / "site")})
     assert res.returncode == 0 and res.stdout.strip() == "fast", res.stderr
+
+
+def test_the_3d_verification_sweeps_save_inside_their_legs():
+    """`snakemake verification3d` sweeps these scenes for hours, a leg of edge-controlled steps taking longer than a
+    session may last: every adhesive one saves inside its legs (verification.checkpoint_every), so a rerun goes on
+    from its last save, not from its last load."""
+    import re
+
+    from capslide.params import Parameters
+
+    rules = (ROOT / "workflow" / "rules" / "verification.smk").read_text()
+    names = re.findall(r'"(\w+)"', re.search(r"VERIFICATION_3D_SCENES = \[(.*)\]", rules)[1])
+    adhesive = [Parameters.from_config(load_config([scene_path(n)])) for n in names]
+    adhesive = {n: p for n, p in zip(names, adhesive) if not p.contact.repulsion_only}
+    assert sorted(adhesive) == ["sphere_dugdale3", "sphere_md3", "sphere_md5"]
+    assert [n for n, p in adhesive.items() if not p.verification.checkpoint_every > 0] == []
