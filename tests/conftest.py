@@ -1,3 +1,4 @@
+import re
 import shutil
 import signal
 import subprocess
@@ -51,3 +52,9 @@ def default_sigint():
 def snakemake(workdir, *args):
     """Run Snakemake on 2 cores in ``workdir``; the completed process."""
     return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True)
+
+
+def step_lines(log: str, untimed: bool = False) -> list[str]:
+    """The step lines of a case's log (its progress without a terminal), without their wall times if ``untimed``."""
+    lines = [line for line in log.splitlines() if re.match(r"[a-z]+ +ubar=", line)]
+    return [re.sub(r" t= *[0-9.]+s$", "", line) for line in lines] if untimed else lines

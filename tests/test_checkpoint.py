@@ -16,7 +16,7 @@ from capslide.io.checkpoint import CheckpointBusy, CheckpointError, CheckpointWr
 from capslide.params import Parameters
 from capslide.states import Phase
 
-from conftest import FOLD, PAPER_CONFIG, default_sigint
+from conftest import FOLD, PAPER_CONFIG, default_sigint, step_lines
 
 COARSE = ["preset=fast", "mesh.size=32", "loading.ubar_max=2.6", "loading.max_slide_step=0.2", "output.snapshot_ubar=[0, 1, 2]",
           "loading.slide_back=true"]
@@ -217,11 +217,6 @@ def test_cli_resume_after_ctrl_c(tmp_path):
         for name in a.data_vars:
             if name != "wall_time":
                 np.testing.assert_array_equal(b[name].values, a[name].values, err_msg=name)
-
-
-def step_lines(log: str) -> list[str]:
-    """The step lines of a case's log (its progress without a terminal)."""
-    return [line for line in log.splitlines() if re.match(r"[a-z]+ +ubar=", line)]
 
 
 def test_a_resumed_sweep_shows_its_saved_steps_first(setup, uninterrupted, tmp_path):

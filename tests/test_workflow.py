@@ -9,7 +9,7 @@ import warnings
 import pytest
 
 from cf_checks import check_cf
-from conftest import ROOT, SNAKEMAKE, default_sigint, snakemake
+from conftest import ROOT, SNAKEMAKE, default_sigint, snakemake, step_lines
 
 
 def test_dry_run_is_clean(workdir):
@@ -178,7 +178,7 @@ def test_smoke_workflow_end_to_end(workdir):
     assert pvd.count("<DataSet ") == 6 and len(list((results / "paraview" / "DI_Fn+0.000").glob("*.vtu"))) == 6
 
     # deleting one case file reruns that case and what depends on it, nothing else
-    uninterrupted = untimed_steps((logs / "cases" / "EA0_Fn+0.000.log").read_text())
+    uninterrupted = step_lines((logs / "cases" / "EA0_Fn+0.000.log").read_text(), untimed=True)
     (results / "cases" / "EA0_Fn+0.000.nc").unlink()
     dry = snakemake(workdir, "--configfile", "config/smoke.yaml", "-n")
     assert _job_counts(dry.stdout) == {"run_case": 1, "collect": 1, "cap_figure": 3, "all": 1}
@@ -198,14 +198,9 @@ def test_smoke_workflow_end_to_end(workdir):
     assert rerun.returncode == 0, rerun.stdout[-3000:] + rerun.stderr[-3000:]
     resumed = (logs / "cases" / "EA0_Fn+0.000.log").read_text()
     assert "resuming from" in resumed and len(uninterrupted) > 30
-    assert untimed_steps(resumed) == uninterrupted  # Snakemake emptied the log: the checkpoint's steps shown again
+    assert step_lines(resumed, untimed=True) == uninterrupted  # Snakemake emptied the log: the checkpoint's steps shown again
     with xr.open_dataset(results / "cases" / "EA0_Fn+0.000.nc") as ds:
         assert ds.attrs["status"] == "completed"
-
-
-def untimed_steps(log: str) -> list[str]:
-    """The step lines of a case's log without their wall times."""
-    return [re.sub(r" t= *[0-9.]+s$", "", line) for line in log.splitlines() if re.match(r"[a-z]+ +ubar=", line)]
 
 
 def test_make_lifts_the_lock_a_stopped_run_left_unless_snakemake_runs_there(workdir, tmp_path):

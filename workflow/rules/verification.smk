@@ -82,6 +82,6 @@ rule verify_scene_3d:
     threads: 1
     resources:
         mem_mb=9000,  # sphere_md3: 7.8 GB peak (docs/three_d.md)
-        runtime=180,
+        runtime=480,  # sphere_md5: hours a load on one core beside other jobs (docs/three_d.md)
     shell:
         f"{THREADS_ENV} {CAPSLIDE} verify {{input}} --resume -o {{output}} > {{log}} 2>&1"
