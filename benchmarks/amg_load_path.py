@@ -7,8 +7,8 @@ band capped at 4 h0) and its solver (``solver.linear: auto``, AMG in 3D). The st
 not in cells, so every mesh takes the same path; ``--steps N`` stops each run after its N-th converged step
 (``CAPSLIDE_INTERRUPT_AFTER_STEP``) where the whole path would take hours. ``--logs`` tabulates the logs of runs
 made by hand instead (their stderr). Printed per run: DOF, steps, Newton and CG iterations, CG per Newton iteration
-over the run and over the steps every run has, the wall time (the steps' sum) and the peak RSS (``/usr/bin/time``;
-runs only). Nothing is asserted.
+over the run and over the steps every run has, the wall time (the steps' sum) and the peak RSS (``/usr/bin/time -f
+peak_rss_kb=%M``, in a log where the run was timed so). Nothing is asserted.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/amg_load_path.py --sizes 100 60 40 [--steps 12]
     .venv/bin/python benchmarks/amg_load_path.py --logs s100.log s60.log s40.log
@@ -33,7 +33,9 @@ def parse_log(text: str) -> dict:
     """DOF and the per-step (Newton, CG, seconds) of a case's log."""
     dofs = DOFS.search(text)
     steps = [(int(m[1]), int(m[2]), float(m[3])) for m in map(STEP.match, text.splitlines()) if m]
-    return {"dofs": int(dofs[1].replace(",", "")) if dofs else 0, "steps": steps}
+    rss = re.search(r"peak_rss_kb=(\d+)", text)  # /usr/bin/time -f peak_rss_kb=%M, where the run was timed so
+    return {"dofs": int(dofs[1].replace(",", "")) if dofs else 0, "steps": steps,
+            "rss": int(rss[1]) / 1e6 if rss else float("nan")}
 
 
 def run_size(size: float, steps: int | None, folder: Path) -> dict:
@@ -51,8 +53,7 @@ def run_size(size: float, steps: int | None, folder: Path) -> dict:
     row = parse_log(res.stderr)
     if not row["steps"]:
         raise SystemExit(f"mesh.size {size:g}: exit {res.returncode}: {res.stderr.strip().splitlines()[-1]}")
-    rss = re.search(r"peak_rss_kb=(\d+)", res.stderr)
-    return {**row, "name": f"{size:g}", "rss": int(rss[1]) / 1e6 if rss else float("nan")}
+    return {**row, "name": f"{size:g}"}
 
 
 def table(rows: list[dict]) -> list[str]:
@@ -79,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=None, help="stop each run after this many converged steps")
     args = parser.parse_args(argv)
     if args.logs:
-        rows = [{**parse_log(p.read_text()), "name": p.name} for p in args.logs]
+        rows = [{**parse_log(p.read_text()), "name": p.stem} for p in args.logs]
     else:
         print(f"threads: OMP {os.environ.get('OMP_NUM_THREADS', 'unset')}", flush=True)
         with tempfile.TemporaryDirectory() as tmp:
