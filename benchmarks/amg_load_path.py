@@ -6,11 +6,14 @@ the approach, the edge-controlled spread and the preload to Fn = 0, on the `fine
 band capped at 4 h0) and its solver (``solver.linear: auto``, AMG in 3D). The steps are set in lengths and forces,
 not in cells, so every mesh takes the same path; ``--steps N`` stops each run after its N-th converged step
 (``CAPSLIDE_INTERRUPT_AFTER_STEP``) where the whole path would take hours. ``--logs`` tabulates the logs of runs
-made by hand instead (their stderr). Printed per run: DOF, steps, Newton and CG iterations, CG per Newton iteration
-over the run and over the steps every run has, the wall time (the steps' sum) and the peak RSS (``/usr/bin/time -f
-peak_rss_kb=%M``, in a log where the run was timed so). Nothing is asserted.
+made by hand instead (their stderr). ``--fresh-hierarchy`` sets the rebuild rule's setup cost to zero in the runs
+(``capslide.solvers.amg.setup_cost_iterations``, patched in the process): a hierarchy built for every matrix, so
+that the iterations show how well smoothed aggregation preconditions, apart from how stale the reuse lets it be.
+Printed per run: DOF, steps, Newton and CG iterations, CG per Newton iteration over the run and over the steps every
+run has, the wall time (the steps' sum) and the peak RSS (``/usr/bin/time -f peak_rss_kb=%M``, in a log where the
+run was timed so). Nothing is asserted.
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/amg_load_path.py --sizes 100 60 40 [--steps 12]
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/amg_load_path.py --sizes 100 60 40 [--steps 12] [--fresh-hierarchy]
     .venv/bin/python benchmarks/amg_load_path.py --logs s100.log s60.log s40.log
 """
 
@@ -38,9 +41,15 @@ def parse_log(text: str) -> dict:
             "rss": int(rss[1]) / 1e6 if rss else float("nan")}
 
 
-def run_size(size: float, steps: int | None, folder: Path) -> dict:
+# capslide's command line with the AMG rebuild rule's setup cost patched to zero: a rebuild before every solve
+FRESH = ("import sys; import capslide.solvers.amg as amg; amg.setup_cost_iterations = lambda n_dofs: 0.0; "
+         "from capslide.cli import main; raise SystemExit(main(sys.argv[1:]))")
+
+
+def run_size(size: float, steps: int | None, folder: Path, fresh: bool = False) -> dict:
     """One run of the `fine` preset at ``mesh.size`` = ``size``; its parsed log and peak RSS (GB)."""
-    cmd = [sys.executable, "-m", "capslide", "run", "--scene", "sphere", "--set", "preset=fine", "--set",
+    cli = ["-c", FRESH] if fresh else ["-m", "capslide"]
+    cmd = [sys.executable, *cli, "run", "--scene", "sphere", "--set", "preset=fine", "--set",
            f"mesh.size={size}", "--set", "loading.ubar_max=0", "-o", str(folder / f"s{size:g}.nc")]
     timer = "/usr/bin/time" if Path("/usr/bin/time").exists() else None
     if timer:
@@ -78,13 +87,14 @@ def main(argv: list[str] | None = None) -> int:
     source.add_argument("--sizes", nargs="+", type=float, help="mesh.size of each run (the fine preset's is 60)")
     source.add_argument("--logs", nargs="+", type=Path, help="logs (stderr) of capslide run to tabulate")
     parser.add_argument("--steps", type=int, default=None, help="stop each run after this many converged steps")
+    parser.add_argument("--fresh-hierarchy", action="store_true", help="rebuild the AMG hierarchy before every solve")
     args = parser.parse_args(argv)
     if args.logs:
         rows = [{**parse_log(p.read_text()), "name": p.stem} for p in args.logs]
     else:
         print(f"threads: OMP {os.environ.get('OMP_NUM_THREADS', 'unset')}", flush=True)
         with tempfile.TemporaryDirectory() as tmp:
-            rows = [run_size(s, args.steps, Path(tmp)) for s in args.sizes]
+            rows = [run_size(s, args.steps, Path(tmp), args.fresh_hierarchy) for s in args.sizes]
     if any(not r["steps"] for r in rows):
         raise SystemExit("a log has no step lines")
     print("\n".join(table(rows)))
