@@ -12,7 +12,7 @@ extrapolated, about 148.0 L0^2, and H1/P0's, 146.3 to 146.8 (the middle, 146.55,
 ``--variants`` runs each preset once per variant, a comma-separated list of ``--set`` assignments ("" the preset
 alone), in the order given, and adds the wall time's ratio to the first row (measured in the same run):
 
-    ... sphere_goal.py --presets annulus_h2 --variants "" solver.factor_precision=single
+    ... sphere_goal.py --presets annulus_h2 --variants "" solver.factor_precision=double
 """
 
 from __future__ import annotations

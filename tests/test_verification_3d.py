@@ -137,7 +137,8 @@ def test_the_sphere_scenes_presets_choose_the_element():
         assert p.mesh.element == element
         assert cost.estimate(p, mesh_spec(p)).dofs == dofs
     p = Parameters.from_config(load_config(["sphere"], ["preset=annulus_h2"]))
-    assert (p.solver.linear, p.solver.factorization, p.mesh.line_band) == ("lu_krylov", "pardiso", (4.5, 7.5))
+    assert (p.solver.linear, p.solver.factorization, p.solver.factor_precision, p.mesh.line_band) == (
+        "lu_krylov", "pardiso", "single", (4.5, 7.5))
 
 
 def test_the_sphere_scenes_amg_presets_keep_the_cells_aspect_ratio_below_8():
