@@ -30,12 +30,20 @@ from pathlib import Path
 
 STEP = re.compile(r"^[a-z]+ +ubar=.* newton= *(\d+) krylov= *(\d+) t= *([0-9.]+)s$")
 DOFS = re.compile(r"building the mesh: .*?([\d,]+) DOF")
+RESUMED = re.compile(r"resuming from .* \((\d+) converged steps")
 
 
 def parse_log(text: str) -> dict:
-    """DOF and the per-step (Newton, CG, seconds) of a case's log."""
+    """DOF and the per-step (Newton, CG, seconds) of a case's log, resumed or not."""
     dofs = DOFS.search(text)
-    steps = [(int(m[1]), int(m[2]), float(m[3])) for m in map(STEP.match, text.splitlines()) if m]
+    steps = []
+    for line in text.splitlines():
+        if m := STEP.match(line):
+            steps.append((int(m[1]), int(m[2]), float(m[3])))
+        elif m := RESUMED.search(line):
+            # a resume replays its checkpoint's N steps just before this line, and the steps the run logged past
+            # its checkpoint were lost and run again: the path is the first N steps, then those after this line
+            del steps[int(m[1]):]
     rss = re.search(r"peak_rss_kb=(\d+)", text)  # /usr/bin/time -f peak_rss_kb=%M, where the run was timed so
     return {"dofs": int(dofs[1].replace(",", "")) if dofs else 0, "steps": steps,
             "rss": int(rss[1]) / 1e6 if rss else float("nan")}
